@@ -1,0 +1,60 @@
+#pragma once
+// The organized FMCW scan: a range image, one pixel per beam, as a real sensor delivers it.
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace fmcw::core {
+
+/// One sensor head of a rig. Heads sit side by side in the image, each owning a column span.
+struct HeadInfo {
+  std::string name;
+  Eigen::Isometry3d T_rig_head = Eigen::Isometry3d::Identity();  ///< mount pose, head -> rig
+  int col_begin = 0;  ///< first image column of this head
+  int col_end = 0;    ///< one past the last image column
+  /// True when this head's right edge meets the next head's left edge in azimuth, so that
+  /// region growing may cross the seam between them.
+  bool stitched_to_next = false;
+
+  int cols() const { return col_end - col_begin; }
+  Eigen::Vector3d origin_m() const { return T_rig_head.translation(); }
+};
+
+/// Organized scan in the rig frame (ISO: x forward, y left, z up), row-major, struct of arrays.
+/// Sign of radial velocity (Eq. 6): v = e . (V_point - V_origin), v > 0 moves away.
+struct Scan {
+  int rows = 0;
+  int cols = 0;
+  double stamp_s = 0.0;
+  std::vector<float> x_m, y_m, z_m;       ///< hit position, rig frame [m]; NaN where invalid
+  std::vector<float> range_m;             ///< distance from the beam origin [m]
+  std::vector<float> radial_velocity_mps; ///< Doppler velocity [m/s]
+  std::vector<float> intensity;           ///< reflected intensity [arbitrary, >= 0]
+  std::vector<std::uint8_t> valid;        ///< 1 where the beam returned
+  std::vector<HeadInfo> heads;            ///< ordered by col_begin, covering [0, cols)
+
+  /// Allocates rows x cols pixels, all invalid, with one head spanning every column.
+  static Scan make_empty(int rows, int cols);
+
+  std::size_t size() const { return static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols); }
+  std::size_t index(int row, int col) const {
+    return static_cast<std::size_t>(row) * static_cast<std::size_t>(cols) + static_cast<std::size_t>(col);
+  }
+  Eigen::Vector3d position(std::size_t i) const { return {x_m[i], y_m[i], z_m[i]}; }
+  std::size_t num_valid() const;
+
+  /// Index into heads of the head that owns an image column.
+  int head_of_col(int col) const;
+  /// Beam origin of a pixel in the rig frame: the mount point of the head that owns its column.
+  Eigen::Vector3d beam_origin(std::size_t i) const;
+
+  /// Checks array sizes and head spans. Throws std::invalid_argument naming the field.
+  void validate_layout() const;
+  /// validate_layout(), and that valid pixels hold finite values and a positive range.
+  /// Throws std::invalid_argument naming the field or the (row, col) pixel at fault.
+  void validate() const;
+};
+
+}  // namespace fmcw::core

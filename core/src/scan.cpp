@@ -1,0 +1,103 @@
+#include "fmcw/core/scan.hpp"
+
+#include <cmath>
+
+#include "fmcw/core/check.hpp"
+
+namespace fmcw::core {
+
+Scan Scan::make_empty(int rows, int cols) {
+  FMCW_CHECK_ARG(rows >= 0 && cols >= 0, "Scan::make_empty: rows and cols must be >= 0, got ", rows,
+                 " x ", cols);
+  Scan scan;
+  scan.rows = rows;
+  scan.cols = cols;
+  const std::size_t n = scan.size();
+  const float nan = std::nanf("");
+  scan.x_m.assign(n, nan);
+  scan.y_m.assign(n, nan);
+  scan.z_m.assign(n, nan);
+  scan.range_m.assign(n, nan);
+  scan.radial_velocity_mps.assign(n, nan);
+  scan.intensity.assign(n, 0.0f);
+  scan.valid.assign(n, 0);
+  HeadInfo head;
+  head.name = "head0";
+  head.col_begin = 0;
+  head.col_end = cols;
+  scan.heads.push_back(head);
+  return scan;
+}
+
+std::size_t Scan::num_valid() const {
+  std::size_t n = 0;
+  for (const auto v : valid) n += v ? 1 : 0;
+  return n;
+}
+
+int Scan::head_of_col(int col) const {
+  for (std::size_t h = 0; h < heads.size(); ++h) {
+    if (col >= heads[h].col_begin && col < heads[h].col_end) return static_cast<int>(h);
+  }
+  throw std::invalid_argument(concat("Scan: column ", col, " belongs to no head"));
+}
+
+Eigen::Vector3d Scan::beam_origin(std::size_t i) const {
+  return heads[static_cast<std::size_t>(head_of_col(static_cast<int>(i % static_cast<std::size_t>(cols))))]
+      .origin_m();
+}
+
+void Scan::validate_layout() const {
+  FMCW_CHECK_ARG(rows >= 0 && cols >= 0, "scan: negative size ", rows, " x ", cols);
+  const std::size_t n = size();
+  const auto check_size = [n](std::size_t got, const char* field) {
+    FMCW_CHECK_ARG(got == n, "scan: field '", field, "' has ", got, " values, expected rows*cols = ", n);
+  };
+  check_size(x_m.size(), "x");
+  check_size(y_m.size(), "y");
+  check_size(z_m.size(), "z");
+  check_size(range_m.size(), "range");
+  check_size(radial_velocity_mps.size(), "v");
+  check_size(intensity.size(), "intensity");
+  check_size(valid.size(), "valid");
+  FMCW_CHECK_ARG(!heads.empty() || n == 0, "scan: no heads describe the ", cols, " columns");
+  int expected_begin = 0;
+  for (std::size_t h = 0; h < heads.size(); ++h) {
+    const HeadInfo& head = heads[h];
+    FMCW_CHECK_ARG(head.col_begin == expected_begin && head.col_end > head.col_begin,
+                   "scan: head ", h, " ('", head.name, "') spans columns [", head.col_begin, ", ",
+                   head.col_end, "), expected a non-empty span starting at ", expected_begin);
+    expected_begin = head.col_end;
+  }
+  FMCW_CHECK_ARG(heads.empty() || expected_begin == cols, "scan: heads cover ", expected_begin,
+                 " columns but the scan has ", cols);
+}
+
+void Scan::validate() const {
+  validate_layout();
+  const std::size_t n = size();
+  // One branch-free pass; the slow search for the pixel to name runs only on failure.
+  bool all_good = true;
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool finite = std::isfinite(x_m[i]) & std::isfinite(y_m[i]) & std::isfinite(z_m[i]) &
+                        std::isfinite(radial_velocity_mps[i]) & std::isfinite(intensity[i]) &
+                        std::isfinite(range_m[i]) & (range_m[i] > 0.0f);
+    all_good &= finite | (valid[i] == 0);
+  }
+  if (all_good) return;
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t i = index(r, c);
+      if (!valid[i]) continue;
+      const bool finite = std::isfinite(x_m[i]) && std::isfinite(y_m[i]) && std::isfinite(z_m[i]) &&
+                          std::isfinite(range_m[i]) && std::isfinite(radial_velocity_mps[i]) &&
+                          std::isfinite(intensity[i]);
+      FMCW_CHECK_ARG(finite, "scan: valid pixel (row ", r, ", col ", c,
+                     ") holds a NaN or Inf in x, y, z, range, v or intensity");
+      FMCW_CHECK_ARG(range_m[i] > 0.0f, "scan: valid pixel (row ", r, ", col ", c,
+                     ") has non-positive range ", range_m[i]);
+    }
+  }
+}
+
+}  // namespace fmcw::core

@@ -1,0 +1,59 @@
+#pragma once
+// Organized PCD (v0.7), the format PCL, Open3D, CloudCompare and ROS tools read directly.
+//
+// Frames are written as binary PCD with WIDTH = cols, HEIGHT = rows, NaN x/y/z where a beam had
+// no return, and fields x y z range v intensity, plus gt_range gt_v gt_vx gt_vy gt_vz instance
+// moving when the frame carries ground truth. Head layout and stamp travel in comment lines
+// ("# fmcw_head ...", "# fmcw_stamp ..."), which other PCD readers skip.
+
+#include <string>
+#include <vector>
+
+#include "fmcw/core/ground_truth.hpp"
+
+namespace fmcw::io {
+
+/// One PCD field with COUNT 1, its values widened to double (exact for every PCD type we use).
+struct PcdField {
+  std::string name;
+  char type = 'F';  ///< 'F' float, 'U' unsigned, 'I' signed
+  int size = 4;     ///< bytes: F 4|8, I/U 1|2|4|8
+  std::vector<double> values;
+};
+
+/// A PCD file in memory: header, fields as columns, and its comment lines (without "# ").
+struct PcdCloud {
+  int width = 0;
+  int height = 0;
+  std::vector<PcdField> fields;
+  std::vector<std::string> comments;
+
+  std::size_t points() const { return static_cast<std::size_t>(width) * static_cast<std::size_t>(height); }
+  const PcdField* find(const std::string& name) const;
+};
+
+/// Reads DATA ascii or binary. Throws std::invalid_argument naming the file and the header line
+/// or point at fault (truncated data, sizes that disagree, unsupported types or compression).
+PcdCloud read_pcd(const std::string& path);
+
+/// Writes binary PCD atomically; std::runtime_error when the file cannot be written.
+void write_pcd(const std::string& path, const PcdCloud& cloud);
+
+/// Field names a frame may carry; anything else is rejected by frame_from_pcd.
+const std::vector<std::string>& known_frame_fields();
+
+/// Builds a Frame. Requires x y z v; range defaults to the distance from the beam origin,
+/// intensity to 0. A point with finite x, y, z is valid and must have finite values in every
+/// field; NaN x, y, z marks no return. All or none of the ground-truth fields. HEIGHT 1 clouds
+/// are rejected: segmentation needs an organized range image. Errors name source and pixel.
+core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source);
+
+/// Frame -> PCD columns; with_truth adds the ground-truth fields (the frame must carry them).
+PcdCloud pcd_from_frame(const core::Frame& frame, bool with_truth = true);
+
+/// read_pcd + frame_from_pcd.
+core::Frame read_frame(const std::string& path);
+/// pcd_from_frame + write_pcd.
+void write_frame(const std::string& path, const core::Frame& frame, bool with_truth = true);
+
+}  // namespace fmcw::io

@@ -1,0 +1,486 @@
+#include "fmcw/io/pcd.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include "fmcw/core/check.hpp"
+#include "fmcw/io/atomic_file.hpp"
+
+namespace fmcw::io {
+
+using core::concat;
+
+namespace {
+
+std::vector<std::string> split_words(const std::string& line) {
+  std::istringstream in(line);
+  std::vector<std::string> words;
+  std::string w;
+  while (in >> w) words.push_back(w);
+  return words;
+}
+
+bool valid_type_size(char type, int size) {
+  if (type == 'F') return size == 4 || size == 8;
+  if (type == 'U' || type == 'I') return size == 1 || size == 2 || size == 4 || size == 8;
+  return false;
+}
+
+double decode(const unsigned char* p, char type, int size) {
+  switch (type) {
+    case 'F': {
+      if (size == 4) { float v; std::memcpy(&v, p, 4); return v; }
+      double v; std::memcpy(&v, p, 8); return v;
+    }
+    case 'U': {
+      if (size == 1) return *p;
+      if (size == 2) { std::uint16_t v; std::memcpy(&v, p, 2); return v; }
+      if (size == 4) { std::uint32_t v; std::memcpy(&v, p, 4); return v; }
+      std::uint64_t v; std::memcpy(&v, p, 8); return static_cast<double>(v);
+    }
+    default: {
+      if (size == 1) { std::int8_t v; std::memcpy(&v, p, 1); return v; }
+      if (size == 2) { std::int16_t v; std::memcpy(&v, p, 2); return v; }
+      if (size == 4) { std::int32_t v; std::memcpy(&v, p, 4); return v; }
+      std::int64_t v; std::memcpy(&v, p, 8); return static_cast<double>(v);
+    }
+  }
+}
+
+void encode(double value, char type, int size, unsigned char* p) {
+  switch (type) {
+    case 'F': {
+      if (size == 4) { const float v = static_cast<float>(value); std::memcpy(p, &v, 4); return; }
+      std::memcpy(p, &value, 8);
+      return;
+    }
+    case 'U': {
+      if (size == 1) { *p = static_cast<std::uint8_t>(value); return; }
+      if (size == 2) { const auto v = static_cast<std::uint16_t>(value); std::memcpy(p, &v, 2); return; }
+      if (size == 4) { const auto v = static_cast<std::uint32_t>(value); std::memcpy(p, &v, 4); return; }
+      const auto v = static_cast<std::uint64_t>(value); std::memcpy(p, &v, 8); return;
+    }
+    default: {
+      if (size == 1) { const auto v = static_cast<std::int8_t>(value); std::memcpy(p, &v, 1); return; }
+      if (size == 2) { const auto v = static_cast<std::int16_t>(value); std::memcpy(p, &v, 2); return; }
+      if (size == 4) { const auto v = static_cast<std::int32_t>(value); std::memcpy(p, &v, 4); return; }
+      const auto v = static_cast<std::int64_t>(value); std::memcpy(p, &v, 8); return;
+    }
+  }
+}
+
+int parse_int(const std::string& s, const std::string& where) {
+  std::size_t used = 0;
+  long long v = 0;
+  try {
+    v = std::stoll(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  FMCW_CHECK_ARG(used == s.size() && v >= 0 && v <= std::numeric_limits<int>::max(), where,
+                 ": expected a non-negative integer, got '", s, "'");
+  return static_cast<int>(v);
+}
+
+struct RawField {
+  std::string name;
+  char type = 'F';
+  int size = 4;
+  int count = 1;
+};
+
+std::string fmt_double(double v) {
+  std::ostringstream out;
+  out << std::setprecision(17) << v;
+  return out.str();
+}
+
+}  // namespace
+
+const PcdField* PcdCloud::find(const std::string& name) const {
+  for (const auto& f : fields) {
+    if (f.name == name) return &f;
+  }
+  return nullptr;
+}
+
+PcdCloud read_pcd(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument(concat(path, ": cannot open PCD file: ", std::strerror(errno)));
+
+  PcdCloud cloud;
+  std::vector<RawField> raw;
+  std::map<std::string, std::vector<std::string>> header;
+  std::map<std::string, int> header_line;
+  std::string line;
+  int line_no = 0;
+  std::string data_kind;
+  const char* required[] = {"FIELDS", "SIZE", "TYPE", "WIDTH", "HEIGHT", "POINTS", "DATA"};
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.size() > 4096) throw std::invalid_argument(concat(path, ":", line_no, ": header line too long; not a PCD file?"));
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    if (line[0] == '#') {
+      cloud.comments.push_back(line.size() > 1 && line[1] == ' ' ? line.substr(2) : line.substr(1));
+      continue;
+    }
+    auto words = split_words(line);
+    if (words.empty()) continue;
+    const std::string key = words[0];
+    words.erase(words.begin());
+    static const char* known[] = {"VERSION", "FIELDS", "SIZE", "TYPE", "COUNT", "WIDTH", "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
+    if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return key == k; }) == std::end(known)) {
+      throw std::invalid_argument(concat(path, ":", line_no, ": unknown PCD header key '", key, "'"));
+    }
+    if (header.count(key)) throw std::invalid_argument(concat(path, ":", line_no, ": header key '", key, "' given twice"));
+    header[key] = words;
+    header_line[key] = line_no;
+    if (key == "DATA") {
+      FMCW_CHECK_ARG(words.size() == 1, path, ":", line_no, ": DATA takes one word");
+      data_kind = words[0];
+      break;
+    }
+  }
+  for (const char* key : required) {
+    if (!header.count(key)) throw std::invalid_argument(concat(path, ": PCD header has no ", key, " line (read ", line_no, " lines)"));
+  }
+  const auto where = [&](const std::string& key) { return concat(path, ":", header_line[key], ": ", key); };
+  const auto& names = header["FIELDS"];
+  FMCW_CHECK_ARG(!names.empty(), where("FIELDS"), " lists no fields");
+  const auto expect_len = [&](const std::string& key) {
+    FMCW_CHECK_ARG(header[key].size() == names.size(), where(key), " has ", header[key].size(),
+                   " entries but FIELDS has ", names.size());
+  };
+  expect_len("SIZE");
+  expect_len("TYPE");
+  if (header.count("COUNT")) expect_len("COUNT");
+  for (std::size_t f = 0; f < names.size(); ++f) {
+    RawField rf;
+    rf.name = names[f];
+    rf.size = parse_int(header["SIZE"][f], where("SIZE"));
+    FMCW_CHECK_ARG(header["TYPE"][f].size() == 1, where("TYPE"), ": type '", header["TYPE"][f], "' of field '", rf.name,
+                   "' is not one of F, U, I");
+    rf.type = header["TYPE"][f][0];
+    rf.count = header.count("COUNT") ? parse_int(header["COUNT"][f], where("COUNT")) : 1;
+    FMCW_CHECK_ARG(valid_type_size(rf.type, rf.size), where("TYPE"), ": field '", rf.name, "' has TYPE ", rf.type,
+                   " with SIZE ", rf.size, " (F takes 4 or 8; U and I take 1, 2, 4 or 8)");
+    FMCW_CHECK_ARG(rf.count >= 1, where("COUNT"), ": field '", rf.name, "' has COUNT 0");
+    for (const auto& other : raw) {
+      FMCW_CHECK_ARG(other.name != rf.name || rf.name == "_", where("FIELDS"), ": field '", rf.name, "' appears twice");
+    }
+    raw.push_back(rf);
+  }
+  FMCW_CHECK_ARG(header["WIDTH"].size() == 1 && header["HEIGHT"].size() == 1 && header["POINTS"].size() == 1,
+                 path, ": WIDTH, HEIGHT and POINTS take one number each");
+  cloud.width = parse_int(header["WIDTH"][0], where("WIDTH"));
+  cloud.height = parse_int(header["HEIGHT"][0], where("HEIGHT"));
+  const int points = parse_int(header["POINTS"][0], where("POINTS"));
+  FMCW_CHECK_ARG(static_cast<std::size_t>(points) == cloud.points(), where("POINTS"), " is ", points,
+                 " but WIDTH x HEIGHT is ", cloud.width, " x ", cloud.height, " = ", cloud.points());
+  FMCW_CHECK_ARG(cloud.points() <= (std::size_t{1} << 31), where("POINTS"), " is too large: ", cloud.points());
+
+  std::size_t stride = 0;
+  for (const auto& rf : raw) stride += static_cast<std::size_t>(rf.size) * static_cast<std::size_t>(rf.count);
+  for (const auto& rf : raw) {
+    if (rf.count == 1 && rf.name != "_") cloud.fields.push_back(PcdField{rf.name, rf.type, rf.size, std::vector<double>(cloud.points())});
+  }
+  const std::size_t n = cloud.points();
+
+  if (data_kind == "binary") {
+    const std::streampos data_begin = in.tellg();
+    in.seekg(0, std::ios::end);
+    const std::streamoff available = in.tellg() - data_begin;
+    in.seekg(data_begin);
+    const auto needed = static_cast<std::streamoff>(n * stride);
+    FMCW_CHECK_ARG(available >= needed, path, ": truncated PCD: header promises ", n, " points of ", stride,
+                   " bytes (", needed, " bytes) but the file holds ", available, " bytes of data");
+    FMCW_CHECK_ARG(available == needed, path, ": PCD data is ", available, " bytes but the header describes ", needed,
+                   " (", n, " points of ", stride, " bytes); the header does not match the data");
+    std::vector<unsigned char> buf(n * stride);
+    in.read(reinterpret_cast<char*>(buf.data()), static_cast<std::streamsize>(buf.size()));
+    FMCW_CHECK_ARG(static_cast<std::size_t>(in.gcount()) == buf.size(), path, ": read error in PCD data");
+    std::size_t offset = 0;
+    std::size_t out_field = 0;
+    for (const auto& rf : raw) {
+      if (rf.count == 1 && rf.name != "_") {
+        auto& values = cloud.fields[out_field++].values;
+        for (std::size_t i = 0; i < n; ++i) values[i] = decode(&buf[i * stride + offset], rf.type, rf.size);
+      }
+      offset += static_cast<std::size_t>(rf.size) * static_cast<std::size_t>(rf.count);
+    }
+  } else if (data_kind == "ascii") {
+    std::size_t tokens_per_point = 0;
+    for (const auto& rf : raw) tokens_per_point += static_cast<std::size_t>(rf.count);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!std::getline(in, line)) {
+        throw std::invalid_argument(concat(path, ": truncated PCD: header promises ", n, " points, file ends after ", i));
+      }
+      ++line_no;
+      const auto words = split_words(line);
+      FMCW_CHECK_ARG(words.size() == tokens_per_point, path, ":", line_no, ": point ", i, " has ", words.size(),
+                     " values, expected ", tokens_per_point);
+      std::size_t t = 0;
+      std::size_t out_field = 0;
+      for (const auto& rf : raw) {
+        if (rf.count == 1 && rf.name != "_") {
+          const std::string& w = words[t];
+          char* end = nullptr;
+          const double v = std::strtod(w.c_str(), &end);
+          FMCW_CHECK_ARG(end != nullptr && *end == '\0', path, ":", line_no, ": field '", rf.name, "' of point ", i,
+                         " is not a number: '", w, "'");
+          cloud.fields[out_field++].values[i] = v;
+        }
+        t += static_cast<std::size_t>(rf.count);
+      }
+    }
+  } else {
+    throw std::invalid_argument(concat(where("DATA"), " '", data_kind, "' is not supported (use binary or ascii)"));
+  }
+  return cloud;
+}
+
+void write_pcd(const std::string& path, const PcdCloud& cloud) {
+  const std::size_t n = cloud.points();
+  std::size_t stride = 0;
+  for (const auto& f : cloud.fields) {
+    FMCW_CHECK_ARG(valid_type_size(f.type, f.size), "write_pcd: field '", f.name, "' has bad type/size");
+    FMCW_CHECK_ARG(f.values.size() == n, "write_pcd: field '", f.name, "' has ", f.values.size(), " values, expected ", n);
+    stride += static_cast<std::size_t>(f.size);
+  }
+  std::ostringstream h;
+  h << "# .PCD v0.7 - Point Cloud Data file format\n";
+  for (const auto& c : cloud.comments) h << "# " << c << "\n";
+  h << "VERSION 0.7\nFIELDS";
+  for (const auto& f : cloud.fields) h << ' ' << f.name;
+  h << "\nSIZE";
+  for (const auto& f : cloud.fields) h << ' ' << f.size;
+  h << "\nTYPE";
+  for (const auto& f : cloud.fields) h << ' ' << f.type;
+  h << "\nCOUNT";
+  for (std::size_t k = 0; k < cloud.fields.size(); ++k) h << " 1";
+  h << "\nWIDTH " << cloud.width << "\nHEIGHT " << cloud.height << "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << n
+    << "\nDATA binary\n";
+  std::vector<unsigned char> buf(n * stride);
+  std::size_t offset = 0;
+  for (const auto& f : cloud.fields) {
+    for (std::size_t i = 0; i < n; ++i) encode(f.values[i], f.type, f.size, &buf[i * stride + offset]);
+    offset += static_cast<std::size_t>(f.size);
+  }
+  const std::string header = h.str();
+  write_file_atomically(path, [&](std::ostream& out) {
+    out.write(header.data(), static_cast<std::streamsize>(header.size()));
+    out.write(reinterpret_cast<const char*>(buf.data()), static_cast<std::streamsize>(buf.size()));
+  });
+}
+
+const std::vector<std::string>& known_frame_fields() {
+  static const std::vector<std::string> names = {"x", "y", "z", "range", "v", "intensity", "gt_range", "gt_v",
+                                                 "gt_vx", "gt_vy", "gt_vz", "instance", "moving", "label"};
+  return names;
+}
+
+core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source) {
+  for (const auto& f : cloud.fields) {
+    const auto& known = known_frame_fields();
+    if (std::find(known.begin(), known.end(), f.name) == known.end()) {
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : " ") + k;
+      throw std::invalid_argument(concat(source, ": unknown field '", f.name, "' (known: ", list, ")"));
+    }
+  }
+  for (const char* required : {"x", "y", "z", "v"}) {
+    FMCW_CHECK_ARG(cloud.find(required) != nullptr, source, ": missing field '", required,
+                   "' (a frame needs at least x y z v)");
+  }
+  FMCW_CHECK_ARG(cloud.points() > 0, source, ": the cloud has no points (WIDTH ", cloud.width, ", HEIGHT ", cloud.height, ")");
+  FMCW_CHECK_ARG(cloud.height > 1, source, ": the cloud is not organized (HEIGHT 1, WIDTH ", cloud.width,
+                 "); Doppler region growing needs a range image: project it onto a grid first");
+
+  core::Frame frame;
+  core::Scan& scan = frame.scan;
+  scan = core::Scan::make_empty(cloud.height, cloud.width);
+  scan.heads.clear();
+  for (const auto& c : cloud.comments) {
+    const auto w = split_words(c);
+    if (w.empty()) continue;
+    if (w[0] == "fmcw_stamp" && w.size() == 2) {
+      scan.stamp_s = std::strtod(w[1].c_str(), nullptr);
+    } else if (w[0] == "fmcw_head") {
+      FMCW_CHECK_ARG(w.size() == 12, source, ": comment '# ", c,
+                     "': expected fmcw_head NAME COL_BEGIN COL_END STITCHED TX TY TZ QW QX QY QZ");
+      core::HeadInfo head;
+      head.name = w[1];
+      head.col_begin = parse_int(w[2], source + ": fmcw_head col_begin");
+      head.col_end = parse_int(w[3], source + ": fmcw_head col_end");
+      head.stitched_to_next = w[4] == "1";
+      double v[7];
+      for (int k = 0; k < 7; ++k) {
+        char* end = nullptr;
+        v[k] = std::strtod(w[5 + static_cast<std::size_t>(k)].c_str(), &end);
+        FMCW_CHECK_ARG(end && *end == '\0' && std::isfinite(v[k]), source, ": comment '# ", c, "': value ", k + 5,
+                       " is not a finite number");
+      }
+      head.T_rig_head = Eigen::Isometry3d::Identity();
+      head.T_rig_head.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
+      const Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);
+      FMCW_CHECK_ARG(std::abs(q.norm() - 1.0) < 1e-6, source, ": fmcw_head '", head.name, "' rotation is not a unit quaternion");
+      head.T_rig_head.linear() = q.toRotationMatrix();
+      scan.heads.push_back(head);
+    }
+  }
+  if (scan.heads.empty()) {
+    core::HeadInfo head;
+    head.name = "sensor";
+    head.col_end = cloud.width;
+    scan.heads.push_back(head);
+  }
+  try {
+    // Head spans must tile the columns; reuse the scan's own check on an all-invalid scan.
+    scan.validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(concat(source, ": ", e.what()));
+  }
+  const std::vector<double>& x = cloud.find("x")->values;
+  const std::vector<double>& y = cloud.find("y")->values;
+  const std::vector<double>& z = cloud.find("z")->values;
+  const std::vector<double>& v = cloud.find("v")->values;
+  const PcdField* range = cloud.find("range");
+  const PcdField* intensity = cloud.find("intensity");
+  const char* gt_names[] = {"gt_range", "gt_v", "gt_vx", "gt_vy", "gt_vz", "instance", "moving"};
+  int gt_present = 0;
+  for (const char* g : gt_names) gt_present += cloud.find(g) ? 1 : 0;
+  if (gt_present > 0 && gt_present < 7) {
+    std::string missing;
+    for (const char* g : gt_names) {
+      if (!cloud.find(g)) missing += (missing.empty() ? "" : " ") + std::string(g);
+    }
+    throw std::invalid_argument(concat(source, ": ground truth is incomplete, missing field(s): ", missing));
+  }
+  std::vector<Eigen::Vector3d> origin(static_cast<std::size_t>(scan.cols));
+  for (const auto& head : scan.heads) {
+    for (int c = head.col_begin; c < head.col_end; ++c) origin[static_cast<std::size_t>(c)] = head.origin_m();
+  }
+  for (int r = 0; r < scan.rows; ++r) {
+    for (int c = 0; c < scan.cols; ++c) {
+      const std::size_t i = scan.index(r, c);
+      const bool any_nan = std::isnan(x[i]) || std::isnan(y[i]) || std::isnan(z[i]);
+      if (any_nan) continue;  // no return
+      const auto bad = [&](const char* field) {
+        return std::invalid_argument(concat(source, ": point (row ", r, ", col ", c, ") has finite x y z but a NaN or Inf '",
+                                            field, "'"));
+      };
+      if (!std::isfinite(x[i]) || !std::isfinite(y[i]) || !std::isfinite(z[i])) {
+        throw std::invalid_argument(concat(source, ": point (row ", r, ", col ", c, ") has an infinite coordinate"));
+      }
+      if (!std::isfinite(v[i])) throw bad("v");
+      scan.x_m[i] = static_cast<float>(x[i]);
+      scan.y_m[i] = static_cast<float>(y[i]);
+      scan.z_m[i] = static_cast<float>(z[i]);
+      scan.radial_velocity_mps[i] = static_cast<float>(v[i]);
+      if (range) {
+        if (!std::isfinite(range->values[i])) throw bad("range");
+        scan.range_m[i] = static_cast<float>(range->values[i]);
+      } else {
+        scan.range_m[i] = static_cast<float>((Eigen::Vector3d(x[i], y[i], z[i]) - origin[static_cast<std::size_t>(c)]).norm());
+      }
+      if (intensity) {
+        if (!std::isfinite(intensity->values[i])) throw bad("intensity");
+        scan.intensity[i] = static_cast<float>(intensity->values[i]);
+      }
+      FMCW_CHECK_ARG(scan.range_m[i] > 0.0f, source, ": point (row ", r, ", col ", c, ") has range ", scan.range_m[i],
+                     " <= 0");
+      scan.valid[i] = 1;
+    }
+  }
+  if (gt_present == 7) {
+    core::PixelGroundTruth gt = core::PixelGroundTruth::make_empty(scan.size());
+    const auto copy_f = [&](const char* name, std::vector<float>& dst) {
+      const auto& src = cloud.find(name)->values;
+      for (std::size_t i = 0; i < dst.size(); ++i) dst[i] = static_cast<float>(src[i]);
+    };
+    copy_f("gt_range", gt.range_m);
+    copy_f("gt_v", gt.radial_velocity_mps);
+    copy_f("gt_vx", gt.vx_mps);
+    copy_f("gt_vy", gt.vy_mps);
+    copy_f("gt_vz", gt.vz_mps);
+    const auto& inst = cloud.find("instance")->values;
+    const auto& mov = cloud.find("moving")->values;
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      FMCW_CHECK_ARG(inst[i] >= 0 && inst[i] <= 4294967295.0 && mov[i] >= 0 && mov[i] <= 1, source, ": point ", i,
+                     " has instance ", inst[i], " / moving ", mov[i], " out of range");
+      gt.instance[i] = static_cast<std::uint32_t>(inst[i]);
+      gt.moving[i] = static_cast<std::uint8_t>(mov[i]);
+    }
+    frame.truth = std::move(gt);
+  }
+  return frame;
+}
+
+PcdCloud pcd_from_frame(const core::Frame& frame, bool with_truth) {
+  const core::Scan& scan = frame.scan;
+  scan.validate();
+  PcdCloud cloud;
+  cloud.width = scan.cols;
+  cloud.height = scan.rows;
+  cloud.comments.push_back("fmcw_stamp " + fmt_double(scan.stamp_s));
+  for (const auto& head : scan.heads) {
+    FMCW_CHECK_ARG(!head.name.empty() && head.name.find_first_of(" \t\r\n") == std::string::npos,
+                   "write PCD: head name '", head.name, "' must be one word");
+    const Eigen::Quaterniond q(head.T_rig_head.linear());
+    const Eigen::Vector3d t = head.T_rig_head.translation();
+    cloud.comments.push_back(concat("fmcw_head ", head.name, " ", head.col_begin, " ", head.col_end, " ",
+                                    head.stitched_to_next ? 1 : 0, " ", fmt_double(t.x()), " ", fmt_double(t.y()), " ",
+                                    fmt_double(t.z()), " ", fmt_double(q.w()), " ", fmt_double(q.x()), " ",
+                                    fmt_double(q.y()), " ", fmt_double(q.z())));
+  }
+  const std::size_t n = scan.size();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const auto add_float = [&](const char* name, const std::vector<float>& src, bool mask_invalid) {
+    PcdField f{name, 'F', 4, std::vector<double>(n)};
+    for (std::size_t i = 0; i < n; ++i) f.values[i] = (mask_invalid && !scan.valid[i]) ? nan : src[i];
+    cloud.fields.push_back(std::move(f));
+  };
+  add_float("x", scan.x_m, true);
+  add_float("y", scan.y_m, true);
+  add_float("z", scan.z_m, true);
+  add_float("range", scan.range_m, true);
+  add_float("v", scan.radial_velocity_mps, true);
+  add_float("intensity", scan.intensity, true);
+  if (with_truth) {
+    FMCW_CHECK_ARG(frame.truth.has_value(), "write PCD: ground truth requested but the frame has none");
+    const core::PixelGroundTruth& gt = *frame.truth;
+    gt.validate(n);
+    add_float("gt_range", gt.range_m, false);
+    add_float("gt_v", gt.radial_velocity_mps, false);
+    add_float("gt_vx", gt.vx_mps, false);
+    add_float("gt_vy", gt.vy_mps, false);
+    add_float("gt_vz", gt.vz_mps, false);
+    PcdField inst{"instance", 'U', 4, std::vector<double>(n)};
+    PcdField mov{"moving", 'U', 1, std::vector<double>(n)};
+    for (std::size_t i = 0; i < n; ++i) {
+      inst.values[i] = gt.instance[i];
+      mov.values[i] = gt.moving[i];
+    }
+    cloud.fields.push_back(std::move(inst));
+    cloud.fields.push_back(std::move(mov));
+  }
+  return cloud;
+}
+
+core::Frame read_frame(const std::string& path) { return frame_from_pcd(read_pcd(path), path); }
+
+void write_frame(const std::string& path, const core::Frame& frame, bool with_truth) {
+  write_pcd(path, pcd_from_frame(frame, with_truth && frame.truth.has_value()));
+}
+
+}  // namespace fmcw::io

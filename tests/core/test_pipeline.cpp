@@ -1,0 +1,219 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <map>
+
+#include "fmcw/core/motion_pipeline.hpp"
+#include "fmcw/core/synthetic_scan.hpp"
+#include "scenes.hpp"
+
+namespace fmcw::core {
+namespace {
+
+TEST(MotionPipeline, StaticWorldEgoVelocityExactWithoutNoise) {
+  SyntheticSceneParams p = fmcw::test::static_courtyard();
+  p.ego_velocity_mps = {12.0, -0.8, 0.2};
+  const Frame frame = render_synthetic_scan(p);
+  for (const std::string method : {"fast", "paper"}) {
+    MotionPipeline pipeline(MotionPipelineParams::preset(method));
+    const MotionEstimate est = pipeline.process(frame.scan);
+    ASSERT_TRUE(est.ok()) << est.message;
+    ASSERT_TRUE(est.ego.valid);
+    // Positions and Doppler are stored as float32, so "exact" means to float rounding.
+    EXPECT_LT((est.ego.velocity_mps - p.ego_velocity_mps).cwiseAbs().maxCoeff(), 1e-6) << method;
+    EXPECT_EQ(est.clusters.size(), 0u) << method;
+  }
+}
+
+TEST(MotionPipeline, EgoVelocityWithinOneCmPerSecondAtTableINoise) {
+  SyntheticSceneParams p = fmcw::test::static_courtyard();
+  p.ego_velocity_mps = {15.0, 1.0, 0.0};
+  p.velocity_noise_mps = 0.031;
+  p.range_noise_m = 0.025;
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    p.seed = seed;
+    const Frame frame = render_synthetic_scan(p);
+    for (const std::string method : {"fast", "paper"}) {
+      const MotionEstimate est = MotionPipeline(MotionPipelineParams::preset(method)).process(frame.scan);
+      ASSERT_TRUE(est.ego.valid);
+      const Eigen::Vector3d err = est.ego.velocity_mps - p.ego_velocity_mps;
+      EXPECT_LT(std::abs(err.x()), 0.01) << method << " seed " << seed;
+      EXPECT_LT(std::abs(err.y()), 0.01) << method << " seed " << seed;
+      EXPECT_LT(std::abs(err.z()), 0.03) << method << " seed " << seed;
+    }
+  }
+}
+
+TEST(MotionPipeline, EgoUsesEachHeadsOwnOrigin) {
+  // A yawing rig: each head's origin moves at V + omega x r_mount. The paper's model (one
+  // velocity for all heads) cannot fit it exactly, but with omega = 0 and heads at different
+  // mounts the estimate must be exact, which it would not be if e_i were taken from the rig
+  // origin instead of the beam origin.
+  SyntheticSceneParams p = fmcw::test::static_courtyard();
+  p.ego_velocity_mps = {8.0, 0.0, 0.0};
+  const Frame frame = render_synthetic_scan(p);
+  Scan wrong = frame.scan;
+  for (auto& head : wrong.heads) head.T_rig_head.translation().setZero();
+  const MotionEstimate good = MotionPipeline().process(frame.scan);
+  const MotionEstimate bad = MotionPipeline().process(wrong);
+  EXPECT_LT((good.ego.velocity_mps - p.ego_velocity_mps).norm(), 1e-6);
+  EXPECT_GT((bad.ego.velocity_mps - p.ego_velocity_mps).norm(), 1e-3);
+}
+
+SyntheticSceneParams moving_box_scene() {
+  SyntheticSceneParams p = fmcw::test::static_courtyard();
+  p.ego_velocity_mps = {5.0, 0.0, 0.0};
+  SyntheticBox car;
+  car.center_m = {18.0, -3.0, 0.75};
+  car.half_extent_m = {2.25, 0.9, 0.75};
+  car.yaw_rad = 0.4;
+  car.velocity_mps = {-6.0, 2.5, 0.0};
+  p.actors = {car};
+  return p;
+}
+
+TEST(MotionPipeline, MovingBoxIsOneClusterWithItsVelocityExactWithoutNoise) {
+  const SyntheticSceneParams p = moving_box_scene();
+  const Frame frame = render_synthetic_scan(p);
+  for (const std::string method : {"fast", "paper"}) {
+    const MotionEstimate est = MotionPipeline(MotionPipelineParams::preset(method)).process(frame.scan);
+    ASSERT_TRUE(est.ok());
+    ASSERT_EQ(est.clusters.size(), 1u) << method;
+    const ClusterEstimate& c = est.clusters[0];
+    ASSERT_TRUE(c.velocity.valid);
+    EXPECT_LT((c.velocity.velocity_mps - p.actors[0].velocity_mps).cwiseAbs().maxCoeff(), 1e-6) << method;
+    // Every car pixel carries the cluster's label.
+    int car_pixels = 0;
+    for (std::size_t i = 0; i < frame.scan.size(); ++i) {
+      if (frame.truth->instance[i] == 1) {
+        ++car_pixels;
+        EXPECT_EQ(est.labels[i], c.id);
+      }
+    }
+    EXPECT_EQ(c.num_pixels, car_pixels);
+    if (method == "paper") {
+      EXPECT_EQ(c.velocity.num_points, 200);
+    }
+    EXPECT_NEAR(c.centroid_m.x(), 18.0, 2.5);
+  }
+}
+
+TEST(MotionPipeline, PaperAndFastAgreeOnTheSamePoints) {
+  SyntheticSceneParams p = moving_box_scene();
+  p.velocity_noise_mps = 0.031;
+  p.range_noise_m = 0.025;
+  p.seed = 3;
+  const Frame frame = render_synthetic_scan(p);
+  MotionPipelineParams ceres = MotionPipelineParams::preset("paper");
+  MotionPipelineParams fast = MotionPipelineParams::preset("fast");
+  fast.velocity.ego_max_points = ceres.velocity.ego_max_points;
+  fast.velocity.object_max_points = ceres.velocity.object_max_points;
+  const MotionEstimate a = MotionPipeline(ceres).process(frame.scan, 4);
+  const MotionEstimate b = MotionPipeline(fast).process(frame.scan, 4);
+  EXPECT_LT((a.ego.velocity_mps - b.ego.velocity_mps).cwiseAbs().maxCoeff(), 1e-6);
+  ASSERT_EQ(a.clusters.size(), b.clusters.size());
+  for (std::size_t k = 0; k < a.clusters.size(); ++k) {
+    EXPECT_LT((a.clusters[k].velocity.velocity_mps - b.clusters[k].velocity.velocity_mps).cwiseAbs().maxCoeff(), 1e-6);
+  }
+}
+
+class ThreadCount : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ThreadCount, SerialAndParallelGiveIdenticalResults) {
+  SyntheticSceneParams scene = benchmark_scene(20, 5);
+  const Frame frame = render_synthetic_scan(scene);
+  MotionPipelineParams serial = MotionPipelineParams::preset(GetParam());
+  serial.num_threads = 1;
+  serial.seed = 99;
+  MotionPipelineParams parallel = serial;
+  parallel.num_threads = 2;
+  const MotionEstimate a = MotionPipeline(serial).process(frame.scan, 7);
+  const MotionEstimate b = MotionPipeline(parallel).process(frame.scan, 7);
+  EXPECT_EQ(a.labels, b.labels);
+  ASSERT_EQ(a.clusters.size(), b.clusters.size());
+  EXPECT_GT(a.clusters.size(), 10u);
+  EXPECT_EQ(a.ego.velocity_mps, b.ego.velocity_mps);
+  for (std::size_t k = 0; k < a.clusters.size(); ++k) {
+    // Bitwise equal, NaN (too few points) included.
+    EXPECT_EQ(0, std::memcmp(a.clusters[k].velocity.velocity_mps.data(), b.clusters[k].velocity.velocity_mps.data(),
+                             3 * sizeof(double)));
+  }
+  // Another frame index draws another subsample for the paper's capped solves.
+  const MotionEstimate c = MotionPipeline(serial).process(frame.scan, 8);
+  if (GetParam() == "paper") {
+    EXPECT_NE(a.ego.velocity_mps, c.ego.velocity_mps);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, ThreadCount, ::testing::Values("fast", "paper"));
+
+TEST(MotionPipeline, EmptyAndAllInvalidScansGiveDocumentedStatus) {
+  MotionPipeline pipeline;
+  Scan invalid = Scan::make_empty(10, 12);
+  const MotionEstimate est = pipeline.process(invalid);
+  EXPECT_EQ(est.status, MotionStatus::kNoValidPoints);
+  EXPECT_FALSE(est.ego.valid);
+  EXPECT_TRUE(est.clusters.empty());
+  EXPECT_EQ(est.labels.size(), 120u);
+
+  Scan empty = Scan::make_empty(0, 0);
+  empty.heads.clear();
+  EXPECT_EQ(pipeline.process(empty).status, MotionStatus::kNoValidPoints);
+}
+
+TEST(MotionPipeline, FewerThanThreeStaticPointsIsAStatusNotACrash) {
+  Scan scan = Scan::make_empty(1, 2);
+  for (int i = 0; i < 2; ++i) {
+    scan.x_m[i] = 10.0f;
+    scan.y_m[i] = static_cast<float>(i);
+    scan.z_m[i] = 0.0f;
+    scan.range_m[i] = 10.0f;
+    scan.radial_velocity_mps[i] = -1.0f;
+    scan.valid[i] = 1;
+  }
+  const MotionEstimate est = MotionPipeline().process(scan);
+  EXPECT_EQ(est.status, MotionStatus::kTooFewStaticPoints);
+  EXPECT_NE(est.message.find("2 static points"), std::string::npos) << est.message;
+  EXPECT_FALSE(est.ego.valid);
+}
+
+TEST(MotionPipeline, NaNVelocityInAValidPixelIsRejectedWithItsPixel) {
+  SyntheticSceneParams p = fmcw::test::static_courtyard();
+  Frame frame = render_synthetic_scan(p);
+  const std::size_t i = frame.scan.index(100, 37);
+  ASSERT_TRUE(frame.scan.valid[i]);
+  frame.scan.radial_velocity_mps[i] = std::nanf("");
+  try {
+    MotionPipeline().process(frame.scan);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("row 100, col 37"), std::string::npos) << e.what();
+  }
+}
+
+TEST(MotionPipeline, MismatchedArraysAreRejected) {
+  Scan scan = Scan::make_empty(3, 3);
+  scan.radial_velocity_mps.pop_back();
+  try {
+    MotionPipeline().process(scan);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'v' has 8 values, expected rows*cols = 9"), std::string::npos) << e.what();
+  }
+}
+
+TEST(MotionPipelineParams, UnknownMethodNamesTheKnownOnes) {
+  try {
+    MotionPipelineParams::preset("magic");
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown method 'magic' (known: paper, fast)"), std::string::npos);
+  }
+  MotionPipelineParams bad;
+  bad.segmentation.velocity_threshold_mps = -1.0;
+  EXPECT_THROW(MotionPipeline{bad}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace fmcw::core

@@ -1,0 +1,121 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "fmcw/core/ceres_velocity.hpp"
+#include "fmcw/core/random.hpp"
+#include "fmcw/core/velocity_lsq.hpp"
+
+namespace fmcw::core {
+namespace {
+
+// Rows from directions spread over the given azimuth/elevation half-widths, with exact targets
+// e . V plus optional noise.
+VelocityRows rows_for(const Eigen::Vector3d& v, int n, double az_half_rad, double el_half_rad, double noise,
+                      std::uint64_t seed) {
+  Rng rng(seed);
+  VelocityRows rows;
+  for (int k = 0; k < n; ++k) {
+    const double az = (2.0 * rng.uniform() - 1.0) * az_half_rad;
+    const double el = (2.0 * rng.uniform() - 1.0) * el_half_rad;
+    const Eigen::Vector3d e(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+    rows.directions.push_back(e);
+    rows.targets_mps.push_back(e.dot(v) + noise * rng.normal());
+  }
+  return rows;
+}
+
+TEST(ClosedForm, RecoversExactVelocityWithoutNoise) {
+  const Eigen::Vector3d v(7.5, -1.25, 0.3);
+  const VelocityRows rows = rows_for(v, 500, 1.0, 0.26, 0.0, 1);
+  const VelocityEstimate est = solve_velocity_closed_form(rows);
+  ASSERT_TRUE(est.valid);
+  EXPECT_LT((est.velocity_mps - v).norm(), 1e-9);
+  EXPECT_EQ(est.num_points, 500);
+  // RSS comes from the normal-equation sums, whose cancellation leaves a floor near 1e-7 m/s.
+  EXPECT_LT(est.residual_rms_mps, 1e-6);
+  EXPECT_FALSE(est.used_qr);
+}
+
+TEST(ClosedForm, AgreesWithCeresTo1eMinus6OnTheSamePoints) {
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    const Eigen::Vector3d v(10.0 * seed, -3.0, 0.5);
+    const VelocityRows rows = rows_for(v, 200, 0.35, 0.1, 0.031, seed);
+    const VelocityEstimate fast = solve_velocity_closed_form(rows);
+    const VelocityEstimate ceres = solve_velocity_ceres(rows);
+    ASSERT_TRUE(fast.valid);
+    ASSERT_TRUE(ceres.valid);
+    EXPECT_LT((fast.velocity_mps - ceres.velocity_mps).cwiseAbs().maxCoeff(), 1e-6) << "seed " << seed;
+    EXPECT_GT(ceres.iterations, 0);
+  }
+}
+
+TEST(ClosedForm, CovarianceMatchesTheNoiseAndFlagsTheWeakAxis) {
+  // A narrow patch straight ahead (like a distant object): x is well observed, y and z are not.
+  const Eigen::Vector3d v(5.0, 1.0, 0.0);
+  const VelocityRows rows = rows_for(v, 400, 0.02, 0.01, 0.031, 3);
+  const VelocityEstimate est = solve_velocity_closed_form(rows);
+  ASSERT_TRUE(est.valid);
+  const Eigen::Vector3d sd = est.axis_std_mps();
+  EXPECT_LT(sd.x(), 0.01);
+  EXPECT_GT(sd.y(), 20.0 * sd.x());
+  EXPECT_GT(sd.z(), sd.y());
+  EXPECT_GT(est.condition_number, 1e3);
+  EXPECT_NEAR(est.residual_rms_mps, 0.031, 0.005);
+}
+
+TEST(ClosedForm, IllConditionedSystemUsesQrAndStillMatchesCeres) {
+  const Eigen::Vector3d v(3.0, 0.5, -0.2);
+  const VelocityRows rows = rows_for(v, 300, 0.004, 0.004, 0.0, 9);
+  const VelocityEstimate est = solve_velocity_closed_form(rows, /*qr_condition_threshold=*/10.0);
+  EXPECT_TRUE(est.used_qr);
+  ASSERT_TRUE(est.valid);
+  EXPECT_LT((est.velocity_mps - v).norm(), 1e-5);
+}
+
+TEST(ClosedForm, TooFewOrDegenerateRowsAreInvalidNotACrash) {
+  VelocityRows rows;
+  EXPECT_FALSE(solve_velocity_closed_form(rows).valid);
+  EXPECT_FALSE(solve_velocity_ceres(rows).valid);
+  rows.directions = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()};
+  rows.targets_mps = {1.0, 2.0};
+  EXPECT_FALSE(solve_velocity_closed_form(rows).valid);
+  // Three rows, all the same direction: rank 1.
+  rows.directions = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitX()};
+  rows.targets_mps = {1.0, 1.0, 1.0};
+  const VelocityEstimate est = solve_velocity_closed_form(rows);
+  EXPECT_FALSE(est.valid);
+  EXPECT_TRUE(std::isinf(est.condition_number) || est.condition_number > 1e12);
+}
+
+TEST(Subsample, IsSeededAndWithoutReplacement) {
+  const auto a = subsample_indices(1000, 200, 42);
+  const auto b = subsample_indices(1000, 200, 42);
+  const auto c = subsample_indices(1000, 200, 43);
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, c);
+  ASSERT_EQ(a.size(), 200u);
+  for (std::size_t k = 1; k < a.size(); ++k) EXPECT_LT(a[k - 1], a[k]);
+  EXPECT_EQ(subsample_indices(10, 0, 1).size(), 10u);
+  EXPECT_EQ(subsample_indices(10, 20, 1).size(), 10u);
+}
+
+TEST(Rng, NormalHasUnitVarianceAndIsReproducible) {
+  Rng rng(5);
+  double sum = 0.0;
+  double sum2 = 0.0;
+  const int n = 200000;
+  for (int k = 0; k < n; ++k) {
+    const double x = rng.normal();
+    sum += x;
+    sum2 += x * x;
+  }
+  EXPECT_NEAR(sum / n, 0.0, 0.01);
+  EXPECT_NEAR(sum2 / n, 1.0, 0.01);
+  Rng a(11);
+  Rng b(11);
+  for (int k = 0; k < 10; ++k) EXPECT_EQ(a.next_u64(), b.next_u64());
+}
+
+}  // namespace
+}  // namespace fmcw::core

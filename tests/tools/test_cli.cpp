@@ -1,0 +1,139 @@
+// The fmcw CLI as a user drives it: exit codes, messages, files written.
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliResult {
+  int code = -1;
+  std::string output;  // stdout and stderr
+};
+
+CliResult run(const std::string& args) {
+  CliResult r;
+  const std::string cmd = std::string(FMCW_CLI_PATH) + " " + args + " 2>&1";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return r;
+  char buf[4096];
+  std::size_t n = 0;
+  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, n);
+  const int status = ::pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return r;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("fmcw_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string p(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+TEST_F(Cli, SynthThenProcessRecoversEgoAndWritesTables) {
+  ASSERT_EQ(run("synth -o " + p("f.pcd") + " --objects 6 --noise-free").code, 0);
+  for (const std::string method : {"fast", "paper"}) {
+    const CliResult r = run("process " + p("f.pcd") + " -o " + p(method) + " --method " + method);
+    ASSERT_EQ(r.code, 0) << r.output;
+    for (const char* f : {"ego.csv", "objects.csv", "timing.csv", "results.json", "labels/f.pcd"}) {
+      EXPECT_TRUE(fs::exists(dir_ / method / f)) << f;
+    }
+    std::istringstream ego(slurp(dir_ / method / "ego.csv"));
+    std::string header, row;
+    std::getline(ego, header);
+    std::getline(ego, row);
+    // frame,source,method,status,static_pixels,clusters,vx,vy,vz,...
+    std::vector<std::string> cells;
+    std::stringstream rs(row);
+    for (std::string c; std::getline(rs, c, ',');) cells.push_back(c);
+    ASSERT_GE(cells.size(), 9u) << row;
+    EXPECT_EQ(cells[2], method);
+    EXPECT_EQ(cells[3], "ok");
+    EXPECT_NEAR(std::stod(cells[6]), 10.0, 1e-5);
+    EXPECT_NEAR(std::stod(cells[7]), 0.0, 1e-5);
+    EXPECT_NEAR(std::stod(cells[8]), 0.0, 1e-5);
+  }
+}
+
+TEST_F(Cli, SameInputGivesByteIdenticalTablesWithOneOrTwoThreads) {
+  ASSERT_EQ(run("synth -o " + p("f.pcd") + " --objects 12").code, 0);
+  ASSERT_EQ(run("process " + p("f.pcd") + " -o " + p("a") + " --method paper --threads 1").code, 0);
+  ASSERT_EQ(run("process " + p("f.pcd") + " -o " + p("b") + " --method paper --threads 2").code, 0);
+  for (const char* f : {"ego.csv", "objects.csv", "results.json", "labels/f.pcd"}) {
+    EXPECT_EQ(slurp(dir_ / "a" / f), slurp(dir_ / "b" / f)) << f;
+  }
+}
+
+TEST_F(Cli, DatasetFolderIsProcessedFrameByFrame) {
+  fs::create_directories(dir_ / "ds" / "frames");
+  ASSERT_EQ(run("synth -o " + p("ds/frames/000000.pcd") + " --objects 3 --seed 1").code, 0);
+  ASSERT_EQ(run("synth -o " + p("ds/frames/000001.pcd") + " --objects 3 --seed 2").code, 0);
+  const CliResult r = run("process " + p("ds") + " -o " + p("out"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("[2/2]"), std::string::npos);
+  std::istringstream ego(slurp(dir_ / "out" / "ego.csv"));
+  int lines = 0;
+  for (std::string l; std::getline(ego, l);) ++lines;
+  EXPECT_EQ(lines, 3);
+}
+
+TEST_F(Cli, BadInputGivesOneClearLineAndNonZeroExit) {
+  CliResult r = run("process " + p("nope.pcd") + " -o " + p("out"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.output, "fmcw: error: input '" + p("nope.pcd") + "' does not exist\n");
+
+  std::ofstream(p("trunc.pcd"), std::ios::binary)
+      << "VERSION 0.7\nFIELDS x y z v\nSIZE 4 4 4 4\nTYPE F F F F\nWIDTH 4\nHEIGHT 2\nPOINTS 8\nDATA binary\n"
+      << std::string(10, '\0');
+  r = run("process " + p("trunc.pcd") + " -o " + p("out"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("trunc.pcd: truncated PCD"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "ego.csv")) << "no half-written tables";
+
+  // A scan with returns but all of them far apart in Doppler: no static region of 3 points.
+  std::ofstream(p("nostatic.pcd"))
+      << "VERSION 0.7\nFIELDS x y z v\nSIZE 4 4 4 4\nTYPE F F F F\nWIDTH 2\nHEIGHT 2\nPOINTS 4\nDATA ascii\n"
+      << "5 0 0 1\n5 1 0 3\n5 0 1 5\n5 1 1 7\n";
+  r = run("process " + p("nostatic.pcd") + " -o " + p("out2"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("nostatic.pcd: ego velocity not estimable: 1 static points"), std::string::npos) << r.output;
+
+  std::ofstream(p("empty.pcd")) << "VERSION 0.7\nFIELDS x y z v\nSIZE 4 4 4 4\nTYPE F F F F\nWIDTH 2\nHEIGHT 2\n"
+                                << "POINTS 4\nDATA ascii\nnan nan nan nan\nnan nan nan nan\nnan nan nan nan\nnan nan nan nan\n";
+  r = run("process " + p("empty.pcd") + " -o " + p("out3"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("empty.pcd: scan has no valid pixels"), std::string::npos) << r.output;
+
+  r = run("process " + p("empty.pcd") + " -o " + p("out4") + " --method magic");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.output.find("magic"), std::string::npos) << r.output;
+}
+
+TEST_F(Cli, BenchJsonNamesBothMethodsWithPointsPerSecond) {
+  const CliResult r = run("bench --json --objects 4 --repeats 2");
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* key : {"\"fast\"", "\"paper\"", "\"points_per_s\"", "\"ms_per_frame\""}) {
+    EXPECT_NE(r.output.find(key), std::string::npos) << key;
+  }
+}
+
+}  // namespace

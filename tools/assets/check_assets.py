@@ -1,0 +1,573 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
+"""Validate the generated glTF assets (standard library only).
+
+    /usr/bin/python3 tools/assets/check_assets.py [--dir assets] [--no-generate]
+
+Checks every ``*.gltf`` in the folder:
+  * valid JSON / glTF 2.0 structure, embedded base64 buffers decode to byteLength
+  * bufferView / accessor byte ranges inside their buffers, alignment, counts
+  * triangle-list indices in range, no degenerate (zero-area) triangles
+  * NORMALs unit length and consistent with the triangle winding; every mesh
+    encloses a positive signed volume (outward-facing winding)
+  * POSITION accessor min/max equal the data
+  * materials named from the allowed set and listed in materials.yaml
+  * world bounding box (node transforms applied) within 10 % of the intended
+    dimensions, footprint centred on the origin, resting on z = 0
+  * required node names / hierarchy (wheels, pedestrian joints)
+Unless --no-generate is given it also runs generate_assets.py twice into
+temporary folders, requires byte-identical output (determinism) and requires
+the checked folder to match that output (assets up to date).
+
+Frame convention: x forward, y left, z up (Z-up, NOT glTF's Y-up), metres.
+Exits with status 1 and one "file: problem" line per failure.
+"""
+
+import argparse
+import base64
+import json
+import math
+import os
+import struct
+import subprocess
+import sys
+import tempfile
+
+ALLOWED_MATERIALS = {
+    "car_paint", "glass", "tire", "metal", "plastic", "asphalt", "concrete", "curb",
+    "road_marking", "brick", "foliage", "bark", "skin", "cloth", "sign_face",
+}
+
+TOL = 0.10  # relative tolerance on the intended dimensions
+
+# Intended dimensions (x length, y width, z height) in metres; None = not specified.
+# centred: footprint centre must be on the origin; ground: min z must be 0.
+EXPECTED = {
+    "car": dict(size=(4.5, 1.8, 1.45), centred=True, ground=True,
+                nodes=["body", "wheel_fl", "wheel_fr", "wheel_rl", "wheel_rr"]),
+    "van": dict(size=(5.2, 2.0, 2.2), centred=True, ground=True,
+                nodes=["body", "wheel_fl", "wheel_fr", "wheel_rl", "wheel_rr"]),
+    "truck": dict(size=(9.0, 2.5, 3.5), centred=True, ground=True,
+                  nodes=["body", "wheel_fl", "wheel_fr", "wheel_ml", "wheel_mr",
+                         "wheel_rl", "wheel_rr"]),
+    "bus": dict(size=(12.0, 2.55, 3.1), centred=True, ground=True,
+                nodes=["body", "wheel_fl", "wheel_fr", "wheel_rl", "wheel_rr"]),
+    "cyclist": dict(size=(1.8, 0.6, 1.75), centred=True, ground=True,
+                    nodes=["body", "wheel_front", "wheel_rear"]),
+    "pedestrian": dict(size=(None, None, 1.75), centred=True, ground=True,
+                       nodes=["pelvis", "torso", "head", "upper_arm_l", "lower_arm_l",
+                              "upper_arm_r", "lower_arm_r", "upper_leg_l", "lower_leg_l",
+                              "upper_leg_r", "lower_leg_r"]),
+    "road_segment": dict(size=(20.0, 11.6, None), centred=True, ground=False, nodes=[]),
+    "intersection_patch": dict(size=(20.0, 20.0, None), centred=True, ground=False, nodes=[]),
+    "building_block": dict(size=(10.0, 10.0, 12.0), centred=True, ground=True, nodes=[]),
+    "building_tall": dict(size=(15.0, 15.0, 30.0), centred=True, ground=True, nodes=[]),
+    "tree": dict(size=(None, None, 6.0), centred=True, ground=True, nodes=[]),
+    # pole and sign: origin at the base of the post (documented exception)
+    "pole": dict(size=(None, None, 6.0), centred=False, ground=True, nodes=[]),
+    "sign": dict(size=(None, 0.6, None), centred=False, ground=True, nodes=[]),
+}
+
+# expected sign of (x, y) of each wheel's axle centre: front +x, left +y
+WHEEL_SIGNS = {
+    "wheel_fl": (1, 1), "wheel_fr": (1, -1), "wheel_ml": (-1, 1), "wheel_mr": (-1, -1),
+    "wheel_rl": (-1, 1), "wheel_rr": (-1, -1), "wheel_front": (1, 0), "wheel_rear": (-1, 0),
+}
+
+PEDESTRIAN_PARENTS = {
+    "torso": "pelvis", "head": "torso",
+    "upper_arm_l": "torso", "lower_arm_l": "upper_arm_l",
+    "upper_arm_r": "torso", "lower_arm_r": "upper_arm_r",
+    "upper_leg_l": "pelvis", "lower_leg_l": "upper_leg_l",
+    "upper_leg_r": "pelvis", "lower_leg_r": "upper_leg_r",
+}
+HANGING_LIMBS = ["upper_arm_l", "lower_arm_l", "upper_arm_r", "lower_arm_r",
+                 "upper_leg_l", "lower_leg_l", "upper_leg_r", "lower_leg_r"]
+
+MAX_TRIANGLES = 5000
+
+COMPONENT = {5120: ("b", 1), 5121: ("B", 1), 5122: ("h", 2), 5123: ("H", 2),
+             5125: ("I", 4), 5126: ("f", 4)}
+NCOMP = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
+
+
+class CheckError(Exception):
+    pass
+
+
+def f32(v):
+    return struct.unpack("<f", struct.pack("<f", v))[0]
+
+
+# ---- 4x4 matrices as row-major nested lists -------------------------------
+
+def mat_identity():
+    return [[1.0 if i == j else 0.0 for j in range(4)] for i in range(4)]
+
+
+def mat_mul(a, b):
+    return [[sum(a[i][k] * b[k][j] for k in range(4)) for j in range(4)] for i in range(4)]
+
+
+def node_matrix(node):
+    if "matrix" in node:
+        m = node["matrix"]  # column-major in glTF
+        return [[m[c * 4 + r] for c in range(4)] for r in range(4)]
+    t = node.get("translation", [0.0, 0.0, 0.0])
+    x, y, z, w = node.get("rotation", [0.0, 0.0, 0.0, 1.0])
+    s = node.get("scale", [1.0, 1.0, 1.0])
+    r = [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+         [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+         [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
+    m = mat_identity()
+    for i in range(3):
+        for j in range(3):
+            m[i][j] = r[i][j] * s[j]
+        m[i][3] = t[i]
+    return m
+
+
+def transform(m, p):
+    return tuple(m[i][0] * p[0] + m[i][1] * p[1] + m[i][2] * p[2] + m[i][3] for i in range(3))
+
+
+# ---- glTF parsing -----------------------------------------------------------
+
+def decode_buffers(g, folder, errors):
+    bufs = []
+    for i, b in enumerate(g.get("buffers", [])):
+        uri = b.get("uri")
+        if uri is None:
+            raise CheckError("buffer %d has no uri (GLB not supported here)" % i)
+        if uri.startswith("data:"):
+            head, _, payload = uri.partition(",")
+            if not head.endswith(";base64"):
+                raise CheckError("buffer %d data URI is not base64" % i)
+            try:
+                data = base64.b64decode(payload, validate=True)
+            except Exception as exc:  # noqa: BLE001 - report any decode problem
+                raise CheckError("buffer %d base64 decode failed: %s" % (i, exc))
+        else:
+            errors.append("buffer %d uses external uri %r (assets must be self-contained)" % (i, uri))
+            with open(os.path.join(folder, uri), "rb") as fh:
+                data = fh.read()
+        if len(data) != b.get("byteLength"):
+            raise CheckError("buffer %d byteLength %r != decoded %d bytes"
+                             % (i, b.get("byteLength"), len(data)))
+        bufs.append(data)
+    return bufs
+
+
+def read_accessor(g, bufs, index):
+    accs = g.get("accessors", [])
+    if not (0 <= index < len(accs)):
+        raise CheckError("accessor index %r out of range" % index)
+    a = accs[index]
+    ctype = a.get("componentType")
+    if ctype not in COMPONENT or a.get("type") not in NCOMP:
+        raise CheckError("accessor %d has bad componentType/type %r/%r"
+                         % (index, ctype, a.get("type")))
+    fmt, csize = COMPONENT[ctype]
+    ncomp = NCOMP[a["type"]]
+    count = a.get("count", 0)
+    if not isinstance(count, int) or count <= 0:
+        raise CheckError("accessor %d has invalid count %r" % (index, count))
+    bvi = a.get("bufferView")
+    views = g.get("bufferViews", [])
+    if bvi is None or not (0 <= bvi < len(views)):
+        raise CheckError("accessor %d bufferView %r out of range" % (index, bvi))
+    bv = views[bvi]
+    bi = bv.get("buffer", -1)
+    if not (0 <= bi < len(bufs)):
+        raise CheckError("bufferView %d buffer %r out of range" % (bvi, bi))
+    bv_off = bv.get("byteOffset", 0)
+    bv_len = bv.get("byteLength", 0)
+    if bv_off < 0 or bv_len <= 0 or bv_off + bv_len > len(bufs[bi]):
+        raise CheckError("bufferView %d range [%d, %d) exceeds buffer %d of %d bytes"
+                         % (bvi, bv_off, bv_off + bv_len, bi, len(bufs[bi])))
+    elem = csize * ncomp
+    stride = bv.get("byteStride", elem)
+    acc_off = a.get("byteOffset", 0)
+    need = acc_off + stride * (count - 1) + elem
+    if need > bv_len:
+        raise CheckError("accessor %d needs %d bytes but bufferView %d has %d"
+                         % (index, need, bvi, bv_len))
+    if (bv_off + acc_off) % csize:
+        raise CheckError("accessor %d is not aligned to its %d-byte components" % (index, csize))
+    data = bufs[bi]
+    out = []
+    for k in range(count):
+        vals = struct.unpack_from("<%d%s" % (ncomp, fmt), data, bv_off + acc_off + k * stride)
+        out.append(vals if ncomp > 1 else vals[0])
+    return a, out
+
+
+def parse_materials_yaml(path):
+    table = {}
+    with open(path, "r", encoding="utf-8") as fh:
+        for lineno, line in enumerate(fh, 1):
+            text = line.split("#", 1)[0].strip()
+            if not text:
+                continue
+            key, sep, val = text.partition(":")
+            if not sep:
+                raise CheckError("materials.yaml:%d: expected 'name: value'" % lineno)
+            try:
+                table[key.strip()] = float(val.strip())
+            except ValueError:
+                raise CheckError("materials.yaml:%d: %r is not a number" % (lineno, val.strip()))
+    return table
+
+
+def check_file(path, reflectivity):
+    """Return (errors, summary) for one glTF file."""
+    errors = []
+    name = os.path.splitext(os.path.basename(path))[0]
+    try:
+        with open(path, "r", encoding="utf-8") as fh:
+            g = json.load(fh)
+    except (ValueError, UnicodeDecodeError) as exc:
+        return ["invalid JSON: %s" % exc], None
+    if g.get("asset", {}).get("version") != "2.0":
+        errors.append("asset.version is not '2.0'")
+    bufs = decode_buffers(g, os.path.dirname(path), errors)
+    for i, bv in enumerate(g.get("bufferViews", [])):
+        if bv.get("byteOffset", 0) % 4:
+            errors.append("bufferView %d byteOffset %d not 4-byte aligned" % (i, bv["byteOffset"]))
+
+    materials = g.get("materials", [])
+    for i, m in enumerate(materials):
+        mname = m.get("name")
+        if mname not in ALLOWED_MATERIALS:
+            errors.append("material %d has name %r outside the allowed set" % (i, mname))
+        elif reflectivity is not None and mname not in reflectivity:
+            errors.append("material %r missing from materials.yaml" % mname)
+        col = m.get("pbrMetallicRoughness", {}).get("baseColorFactor")
+        if col is None or len(col) != 4 or any(not (0.0 <= c <= 1.0) for c in col):
+            errors.append("material %r has no valid baseColorFactor" % mname)
+
+    # ---- meshes: geometry checks, local bounding boxes, local positions
+    mesh_points = []
+    mesh_bbox = []
+    mesh_tris = []
+    for mi, mesh in enumerate(g.get("meshes", [])):
+        points = []
+        volume = 0.0
+        tris = 0
+        mname = mesh.get("name", "mesh%d" % mi)
+        for pi, prim in enumerate(mesh.get("primitives", [])):
+            where = "mesh %r primitive %d" % (mname, pi)
+            if prim.get("mode", 4) != 4:
+                errors.append("%s: mode %r is not TRIANGLES" % (where, prim.get("mode")))
+                continue
+            mat = prim.get("material")
+            if mat is None or not (0 <= mat < len(materials)):
+                errors.append("%s: missing or invalid material" % where)
+            attrs = prim.get("attributes", {})
+            if "POSITION" not in attrs or "NORMAL" not in attrs:
+                errors.append("%s: POSITION and NORMAL attributes required" % where)
+                continue
+            pacc, pos = read_accessor(g, bufs, attrs["POSITION"])
+            nacc, nor = read_accessor(g, bufs, attrs["NORMAL"])
+            if pacc["componentType"] != 5126 or pacc["type"] != "VEC3":
+                errors.append("%s: POSITION must be float32 VEC3" % where)
+            if len(pos) != len(nor):
+                errors.append("%s: POSITION count %d != NORMAL count %d" % (where, len(pos), len(nor)))
+                continue
+            if "min" not in pacc or "max" not in pacc:
+                errors.append("%s: POSITION accessor lacks min/max" % where)
+            else:
+                dmin = [min(p[i] for p in pos) for i in range(3)]
+                dmax = [max(p[i] for p in pos) for i in range(3)]
+                for i in range(3):
+                    if f32(pacc["min"][i]) != dmin[i] or f32(pacc["max"][i]) != dmax[i]:
+                        errors.append("%s: POSITION min/max %r/%r do not match data %r/%r"
+                                      % (where, pacc["min"], pacc["max"], dmin, dmax))
+                        break
+            for k, n in enumerate(nor):
+                ln = math.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
+                if abs(ln - 1.0) > 1e-3:
+                    errors.append("%s: normal %d has length %.6f" % (where, k, ln))
+                    break
+            if "indices" not in prim:
+                errors.append("%s: non-indexed primitive" % where)
+                continue
+            iacc, ind = read_accessor(g, bufs, prim["indices"])
+            if iacc["componentType"] not in (5121, 5123, 5125) or iacc["type"] != "SCALAR":
+                errors.append("%s: indices must be unsigned SCALAR" % where)
+            if len(ind) % 3:
+                errors.append("%s: index count %d not a multiple of 3" % (where, len(ind)))
+                continue
+            bad = [v for v in ind if v >= len(pos)]
+            if bad:
+                errors.append("%s: index %d out of range (%d vertices)" % (where, bad[0], len(pos)))
+                continue
+            ndeg = nflip = 0
+            for t in range(0, len(ind), 3):
+                a, b, c = pos[ind[t]], pos[ind[t + 1]], pos[ind[t + 2]]
+                e1 = (b[0] - a[0], b[1] - a[1], b[2] - a[2])
+                e2 = (c[0] - a[0], c[1] - a[1], c[2] - a[2])
+                cr = (e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                      e1[0] * e2[1] - e1[1] * e2[0])
+                area = 0.5 * math.sqrt(cr[0] ** 2 + cr[1] ** 2 + cr[2] ** 2)
+                if area < 1e-10:
+                    ndeg += 1
+                    continue
+                nsum = [nor[ind[t]][i] + nor[ind[t + 1]][i] + nor[ind[t + 2]][i] for i in range(3)]
+                if cr[0] * nsum[0] + cr[1] * nsum[1] + cr[2] * nsum[2] <= 0.0:
+                    nflip += 1
+                volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2])
+                           + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0
+            tris += len(ind) // 3
+            if ndeg:
+                errors.append("%s: %d degenerate (zero-area) triangles" % (where, ndeg))
+            if nflip:
+                errors.append("%s: %d triangles whose winding disagrees with their normals"
+                              % (where, nflip))
+            points.extend(pos[v] for v in set(ind))
+        if volume <= 0.0:
+            errors.append("mesh %r encloses non-positive volume %.4g m^3 (inward winding?)"
+                          % (mname, volume))
+        mesh_points.append(points)
+        mesh_tris.append(tris)
+        if points:
+            mesh_bbox.append(([min(p[i] for p in points) for i in range(3)],
+                              [max(p[i] for p in points) for i in range(3)]))
+        else:
+            mesh_bbox.append(None)
+    # ---- node hierarchy and world transforms
+    nodes = g.get("nodes", [])
+    names = [n.get("name") for n in nodes]
+    dup = sorted(set(x for x in names if names.count(x) > 1 and x is not None))
+    if dup:
+        errors.append("duplicate node names %s" % dup)
+    parent = {}
+    for i, n in enumerate(nodes):
+        for c in n.get("children", []):
+            if not (0 <= c < len(nodes)):
+                raise CheckError("node %r child index %r out of range" % (names[i], c))
+            if c in parent:
+                raise CheckError("node %r has more than one parent" % names[c])
+            parent[c] = i
+    scene = g.get("scenes", [{}])[g.get("scene", 0)]
+    roots = scene.get("nodes", [])
+    world = {}
+
+    def visit(i, m, depth):
+        if depth > len(nodes):
+            raise CheckError("node hierarchy has a cycle")
+        world[i] = mat_mul(m, node_matrix(nodes[i]))
+        for c in nodes[i].get("children", []):
+            visit(c, world[i], depth + 1)
+
+    for r in roots:
+        if r in parent:
+            errors.append("scene root %r is also a child" % names[r])
+        visit(r, mat_identity(), 0)
+    lo = [float("inf")] * 3
+    hi = [float("-inf")] * 3
+    node_world_bbox = {}
+    for i, n in enumerate(nodes):
+        if "mesh" not in n:
+            continue
+        if i not in world:
+            errors.append("node %r is not reachable from the scene" % names[i])
+            continue
+        nlo = [float("inf")] * 3
+        nhi = [float("-inf")] * 3
+        for p in mesh_points[n["mesh"]]:
+            q = transform(world[i], p)
+            for k in range(3):
+                nlo[k] = min(nlo[k], q[k])
+                nhi[k] = max(nhi[k], q[k])
+        node_world_bbox[names[i]] = (nlo, nhi)
+        for k in range(3):
+            lo[k] = min(lo[k], nlo[k])
+            hi[k] = max(hi[k], nhi[k])
+    size = [hi[k] - lo[k] for k in range(3)]
+    # triangles as rendered: shared meshes (e.g. wheels) count once per instance
+    total_tris = sum(mesh_tris[n["mesh"]] for n in nodes
+                     if "mesh" in n and 0 <= n["mesh"] < len(mesh_tris))
+    if total_tris > MAX_TRIANGLES:
+        errors.append("%d triangles exceeds the budget of %d" % (total_tris, MAX_TRIANGLES))
+
+    exp = EXPECTED.get(name)
+    if exp is None:
+        errors.append("no expectations defined for this asset (unknown file name)")
+    else:
+        for k, axis in enumerate("xyz"):
+            want = exp["size"][k]
+            if want is not None and abs(size[k] - want) > TOL * want:
+                errors.append("bounding-box %s extent %.3f m is not within 10%% of %.3f m"
+                              % (axis, size[k], want))
+        if exp["centred"]:
+            for k, axis in enumerate("xy"):
+                centre = 0.5 * (lo[k] + hi[k])
+                if abs(centre) > max(0.05, 0.05 * size[k]):
+                    errors.append("footprint centre %s = %.3f m is not at the origin" % (axis, centre))
+        if exp["ground"] and abs(lo[2]) > 0.01:
+            errors.append("lowest point z = %.3f m, expected to rest on z = 0" % lo[2])
+        for req in exp["nodes"]:
+            if req not in names:
+                errors.append("required node %r missing" % req)
+        by_name = dict((nm, i) for i, nm in enumerate(names))
+        for req in exp["nodes"]:
+            if req in WHEEL_SIGNS and req in by_name:
+                i = by_name[req]
+                n = nodes[i]
+                t = transform(world.get(i, mat_identity()), (0.0, 0.0, 0.0))
+                sx, sy = WHEEL_SIGNS[req]
+                if t[0] * sx <= 0 or (sy and t[1] * sy <= 0):
+                    errors.append("wheel %r at (%.2f, %.2f) is on the wrong side (front=+x, left=+y)"
+                                  % (req, t[0], t[1]))
+                if "mesh" not in n or mesh_bbox[n["mesh"]] is None:
+                    errors.append("wheel %r has no mesh" % req)
+                    continue
+                mlo, mhi = mesh_bbox[n["mesh"]]
+                c = [0.5 * (mlo[k] + mhi[k]) for k in range(3)]
+                ext = [mhi[k] - mlo[k] for k in range(3)]
+                if max(abs(v) for v in c) > 0.01:
+                    errors.append("wheel %r mesh is not centred on its node origin (centre %s)"
+                                  % (req, ["%.3f" % v for v in c]))
+                if abs(ext[0] - ext[2]) > 0.05 * ext[0] or ext[1] >= ext[0]:
+                    errors.append("wheel %r mesh is not a disc about local Y (extent %s)"
+                                  % (req, ["%.3f" % v for v in ext]))
+                wlo = node_world_bbox.get(req, ([0, 0, 1], None))[0]
+                if abs(wlo[2]) > 0.02:
+                    errors.append("wheel %r does not touch the ground (min z %.3f)" % (req, wlo[2]))
+            if req in ("body",) and req in by_name:
+                n = nodes[by_name[req]]
+                if "mesh" not in n:
+                    errors.append("node 'body' has no mesh")
+        if name == "pedestrian":
+            for child, par in sorted(PEDESTRIAN_PARENTS.items()):
+                if child in by_name and par in by_name and parent.get(by_name[child]) != by_name[par]:
+                    errors.append("node %r must be a child of %r" % (child, par))
+            if "pelvis" in by_name:
+                pi = by_name["pelvis"]
+                if pi not in roots:
+                    errors.append("'pelvis' must be the scene root")
+                tz = nodes[pi].get("translation", [0, 0, 0])[2]
+                if not 0.85 <= tz <= 1.05:
+                    errors.append("pelvis translation z = %.3f, expected hip height ~0.95" % tz)
+            for limb in HANGING_LIMBS:
+                if limb not in by_name:
+                    continue
+                n = nodes[by_name[limb]]
+                if "mesh" not in n or mesh_bbox[n["mesh"]] is None:
+                    errors.append("limb %r has no mesh" % limb)
+                    continue
+                mlo, mhi = mesh_bbox[n["mesh"]]
+                if mhi[2] > 0.02 or mlo[2] > -0.2:
+                    errors.append("limb %r mesh must hang from its joint (local z %.3f..%.3f)"
+                                  % (limb, mlo[2], mhi[2]))
+                if any(k in n for k in ("rotation", "scale", "matrix")):
+                    errors.append("limb %r should only carry a translation (joint pivot)" % limb)
+    summary = (name, total_tris, lo, hi, size, names)
+    return errors, summary
+
+
+def generate_into(folder):
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "generate_assets.py")
+    proc = subprocess.run([sys.executable, script, "--out", folder, "--quiet"],
+                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True)
+    if proc.returncode != 0:
+        raise CheckError("generate_assets.py failed:\n%s" % proc.stderr)
+
+
+def read_tree(folder):
+    out = {}
+    for fn in sorted(os.listdir(folder)):
+        with open(os.path.join(folder, fn), "rb") as fh:
+            out[fn] = fh.read()
+    return out
+
+
+def check_generation(folder):
+    errors = []
+    with tempfile.TemporaryDirectory() as t1, tempfile.TemporaryDirectory() as t2:
+        generate_into(t1)
+        generate_into(t2)
+        a, b = read_tree(t1), read_tree(t2)
+        if sorted(a) != sorted(b):
+            errors.append("generator: runs produced different file sets")
+        for fn in sorted(set(a) & set(b)):
+            if a[fn] != b[fn]:
+                errors.append("%s: not deterministic (two generator runs differ)" % fn)
+        for fn in sorted(a):
+            path = os.path.join(folder, fn)
+            if not os.path.exists(path):
+                errors.append("%s: missing from %s (run generate_assets.py)" % (fn, folder))
+                continue
+            with open(path, "rb") as fh:
+                if fh.read() != a[fn]:
+                    errors.append("%s: differs from freshly generated output "
+                                  "(stale; re-run generate_assets.py)" % fn)
+    return errors
+
+
+def main(argv=None):
+    default_dir = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                                "..", "..", "assets"))
+    ap = argparse.ArgumentParser(description="Validate generated glTF assets.")
+    ap.add_argument("--dir", default=default_dir, help="asset folder (default: %(default)s)")
+    ap.add_argument("--no-generate", action="store_true",
+                    help="skip the determinism / up-to-date regeneration check")
+    ap.add_argument("--quiet", action="store_true", help="only print failures")
+    args = ap.parse_args(argv)
+
+    failures = []
+    if not os.path.isdir(args.dir):
+        print("%s: not a directory" % args.dir)
+        return 1
+    reflectivity = None
+    ypath = os.path.join(args.dir, "materials.yaml")
+    try:
+        reflectivity = parse_materials_yaml(ypath)
+        for mname in sorted(ALLOWED_MATERIALS):
+            if mname not in reflectivity:
+                failures.append("materials.yaml: material %r missing" % mname)
+        for mname, val in sorted(reflectivity.items()):
+            if mname not in ALLOWED_MATERIALS:
+                failures.append("materials.yaml: unknown material %r" % mname)
+            if not 0.0 <= val <= 1.0:
+                failures.append("materials.yaml: reflectivity of %r = %g outside [0, 1]" % (mname, val))
+    except (OSError, CheckError) as exc:
+        failures.append("materials.yaml: %s" % exc)
+
+    files = sorted(f for f in os.listdir(args.dir) if f.endswith(".gltf"))
+    present = set(os.path.splitext(f)[0] for f in files)
+    for missing in sorted(set(EXPECTED) - present):
+        failures.append("%s.gltf: missing" % missing)
+    summaries = []
+    for fn in files:
+        try:
+            errs, summary = check_file(os.path.join(args.dir, fn), reflectivity)
+        except CheckError as exc:
+            errs, summary = [str(exc)], None
+        failures.extend("%s: %s" % (fn, e) for e in errs)
+        if summary:
+            summaries.append(summary)
+    if not args.no_generate:
+        try:
+            failures.extend(check_generation(args.dir))
+        except CheckError as exc:
+            failures.append(str(exc))
+
+    if not args.quiet:
+        for name, tris, lo, hi, size, _ in summaries:
+            print("%-20s %5d tris  size %6.2f x %5.2f x %5.2f m  z %.2f..%.2f"
+                  % (name, tris, size[0], size[1], size[2], lo[2], hi[2]))
+    if failures:
+        for f in failures:
+            print("FAIL " + f)
+        print("%d problem(s) found" % len(failures))
+        return 1
+    if not args.quiet:
+        print("OK: %d glTF files valid%s" % (len(files), "" if args.no_generate else
+                                              "; generator deterministic and output up to date"))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
