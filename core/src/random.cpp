@@ -44,18 +44,83 @@ std::uint64_t Rng::uniform_below(std::uint64_t n) {
   return x % n;
 }
 
-double Rng::normal() {
-  if (has_spare_) {
-    has_spare_ = false;
-    return spare_;
+namespace {
+
+// Ziggurat tables for the standard normal with 128 layers of equal area v, the base strip
+// ending at r (Marsaglia and Tsang, 2000). Values are drawn as 32-bit signed integers hz scaled
+// by w[i]; |hz| < k[i] means the point lies inside the layer's inner rectangle.
+constexpr double kZigR = 3.442619855899;
+constexpr double kZigV = 9.91256303526217e-3;
+
+struct ZigguratTables {
+  std::uint32_t k[128];
+  double w[128];
+  double f[128];
+  ZigguratTables() {
+    const double m = 2147483648.0;  // 2^31
+    double dn = kZigR;
+    double tn = dn;
+    const double q = kZigV / std::exp(-0.5 * dn * dn);
+    k[0] = static_cast<std::uint32_t>((dn / q) * m);
+    k[1] = 0;
+    w[0] = q / m;
+    w[127] = dn / m;
+    f[0] = 1.0;
+    f[127] = std::exp(-0.5 * dn * dn);
+    for (int i = 126; i >= 1; --i) {
+      dn = std::sqrt(-2.0 * std::log(kZigV / dn + std::exp(-0.5 * dn * dn)));
+      k[i + 1] = static_cast<std::uint32_t>((dn / tn) * m);
+      tn = dn;
+      f[i] = std::exp(-0.5 * dn * dn);
+      w[i] = dn / m;
+    }
   }
-  double u1 = uniform();
-  while (u1 <= 0.0) u1 = uniform();
-  const double u2 = uniform();
-  const double radius = std::sqrt(-2.0 * std::log(u1));
-  spare_ = radius * std::sin(2.0 * M_PI * u2);
-  has_spare_ = true;
-  return radius * std::cos(2.0 * M_PI * u2);
+};
+
+const ZigguratTables& zig() {
+  static const ZigguratTables tables;
+  return tables;
+}
+
+}  // namespace
+
+double Rng::normal() {
+  const ZigguratTables& t = zig();
+  // Layer index from the low bits, signed value from the high 32 bits: independent bits.
+  const std::uint64_t bits = next_u64();
+  const int iz = static_cast<int>(bits & 127u);
+  const auto hz = static_cast<std::int64_t>(static_cast<std::int32_t>(bits >> 32));
+  const std::uint64_t mag = static_cast<std::uint64_t>(hz < 0 ? -hz : hz);
+  if (mag < t.k[iz]) return static_cast<double>(hz) * t.w[iz];
+  return normal_slow(hz, iz);
+}
+
+double Rng::normal_slow(std::int64_t hz, int iz) {
+  const ZigguratTables& t = zig();
+  for (;;) {
+    const double x = static_cast<double>(hz) * t.w[iz];
+    if (iz == 0) {
+      // Base strip: sample the tail beyond r exactly.
+      double tail = 0.0;
+      double y = 0.0;
+      do {
+        double u1 = uniform();
+        while (u1 <= 0.0) u1 = uniform();
+        double u2 = uniform();
+        while (u2 <= 0.0) u2 = uniform();
+        tail = -std::log(u1) / kZigR;
+        y = -std::log(u2);
+      } while (y + y < tail * tail);
+      return hz > 0 ? kZigR + tail : -kZigR - tail;
+    }
+    // Wedge between the layer's rectangle and the curve: accept under the density.
+    if (t.f[iz] + uniform() * (t.f[iz - 1] - t.f[iz]) < std::exp(-0.5 * x * x)) return x;
+    const std::uint64_t bits = next_u64();
+    iz = static_cast<int>(bits & 127u);
+    hz = static_cast<std::int64_t>(static_cast<std::int32_t>(bits >> 32));
+    const std::uint64_t mag = static_cast<std::uint64_t>(hz < 0 ? -hz : hz);
+    if (mag < t.k[iz]) return static_cast<double>(hz) * t.w[iz];
+  }
 }
 
 std::vector<std::uint32_t> subsample_indices(std::uint32_t n, std::uint32_t k, std::uint64_t seed) {

@@ -100,18 +100,30 @@ TEST(Subsample, IsSeededAndWithoutReplacement) {
   EXPECT_EQ(subsample_indices(10, 20, 1).size(), 10u);
 }
 
-TEST(Rng, NormalHasUnitVarianceAndIsReproducible) {
+TEST(Rng, NormalMatchesTheStandardNormalAndIsReproducible) {
   Rng rng(5);
-  double sum = 0.0;
-  double sum2 = 0.0;
-  const int n = 200000;
+  double sum = 0.0, sum2 = 0.0, sum4 = 0.0;
+  int beyond1 = 0, beyond2 = 0, beyond3 = 0, beyond_r = 0;
+  const int n = 2000000;
   for (int k = 0; k < n; ++k) {
     const double x = rng.normal();
     sum += x;
     sum2 += x * x;
+    sum4 += x * x * x * x;
+    const double a = std::abs(x);
+    beyond1 += a > 1.0;
+    beyond2 += a > 2.0;
+    beyond3 += a > 3.0;
+    beyond_r += a > 3.6;  // the ziggurat's exact tail starts at r = 3.44
   }
-  EXPECT_NEAR(sum / n, 0.0, 0.01);
-  EXPECT_NEAR(sum2 / n, 1.0, 0.01);
+  EXPECT_NEAR(sum / n, 0.0, 0.003);
+  EXPECT_NEAR(sum2 / n, 1.0, 0.005);
+  EXPECT_NEAR(sum4 / n, 3.0, 0.05);  // kurtosis of a normal
+  // Two-sided tail probabilities: 0.3173, 0.0455, 0.0027, 0.000318.
+  EXPECT_NEAR(beyond1 / static_cast<double>(n), 0.3173, 0.002);
+  EXPECT_NEAR(beyond2 / static_cast<double>(n), 0.0455, 0.0006);
+  EXPECT_NEAR(beyond3 / static_cast<double>(n), 0.0027, 0.00015);
+  EXPECT_NEAR(beyond_r / static_cast<double>(n), 0.000318, 0.00005);
   Rng a(11);
   Rng b(11);
   for (int k = 0; k < 10; ++k) EXPECT_EQ(a.next_u64(), b.next_u64());

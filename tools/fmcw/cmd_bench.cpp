@@ -4,10 +4,13 @@
 #include <chrono>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <omp.h>
 
 #include "commands.hpp"
 #include "fmcw/core/motion_pipeline.hpp"
 #include "fmcw/core/synthetic_scan.hpp"
+#include "fmcw/sim/lidar_simulator.hpp"
+#include "fmcw/sim/scenario.hpp"
 
 namespace fmcw::cli {
 
@@ -17,6 +20,9 @@ struct BenchOptions {
   int objects = 20;
   int repeats = 0;  // 0: per-method default
   int threads = 1;
+  std::string scenario = FMCW_SOURCE_DIR "/scenarios/intersection.yaml";
+  int sim_threads = 0;
+  int sim_frames = 50;
 };
 
 double median(std::vector<double> v) {
@@ -62,6 +68,30 @@ int run_bench(const BenchOptions& opt) {
                 << median(ego) << " ms, objects " << median(objects) << " ms, " << clusters << " clusters\n";
     }
   }
+  // Simulation of one frame of the scenario's rig, scene update included.
+  {
+    const sim::LoadedScenario loaded = sim::load_scenario(opt.scenario);
+    sim::SimulationSetup setup = sim::build_simulation(loaded, opt.sim_threads);
+    sim::LidarSimulator simulator(setup.scene, setup.ego, setup.params);
+    const double rays = static_cast<double>(setup.params.rig.rows()) * setup.params.rig.cols();
+    std::vector<double> ms;
+    core::Frame f;
+    for (int k = -2; k < opt.sim_frames; ++k) {
+      const auto frame = static_cast<std::uint64_t>(std::max(k, 0));
+      const auto t0 = std::chrono::steady_clock::now();
+      simulator.simulate(frame, loaded.scenario.frame_time_s(frame), f);
+      const double dt = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      if (k >= 0) ms.push_back(dt);
+    }
+    const double m = median(ms);
+    out["simulate"] = {{"scenario", loaded.scenario.name}, {"rays_per_frame", rays}, {"ms_per_frame", m},
+                       {"rays_per_s", rays / (m * 1e-3)}, {"frames", opt.sim_frames},
+                       {"threads", opt.sim_threads > 0 ? opt.sim_threads : omp_get_max_threads()}};
+    if (!opt.json) {
+      std::cout << "simulate " << loaded.scenario.name << ": " << m << " ms per frame (median of " << opt.sim_frames
+                << "), " << rays / (m * 1e-3) / 1e6 << " M rays/s\n";
+    }
+  }
   if (opt.json) std::cout << out.dump(2) << std::endl;
   return 0;
 }
@@ -74,6 +104,9 @@ Action add_bench_command(CLI::App& app) {
   cmd->add_option("--objects", opt->objects, "Moving objects in the frame")->check(CLI::Range(0, 1000));
   cmd->add_option("--repeats", opt->repeats, "Timed runs per method (default 200 fast, 30 paper)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--threads", opt->threads, "Threads for per-object estimation")->check(CLI::PositiveNumber);
+  cmd->add_option("--scenario", opt->scenario, "Scenario whose first frames are simulated and timed");
+  cmd->add_option("--sim-threads", opt->sim_threads, "Ray-casting threads (0 = all cores)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--sim-frames", opt->sim_frames, "Simulated frames timed")->check(CLI::PositiveNumber);
   return [opt] { return run_bench(*opt); };
 }
 

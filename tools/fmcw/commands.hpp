@@ -12,5 +12,6 @@ using Action = std::function<int()>;
 Action add_process_command(CLI::App& app);
 Action add_synth_command(CLI::App& app);
 Action add_bench_command(CLI::App& app);
+Action add_simulate_command(CLI::App& app);
 
 }  // namespace fmcw::cli

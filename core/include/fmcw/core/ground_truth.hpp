@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "fmcw/core/scan.hpp"
@@ -22,10 +23,37 @@ struct PixelGroundTruth {
   void validate(std::size_t n) const;
 };
 
+/// The rig's motion at the frame's time.
+struct EgoTruth {
+  Eigen::Isometry3d T_world_rig = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d velocity_mps = Eigen::Vector3d::Zero();        ///< of the rig origin, rig axes
+  Eigen::Vector3d angular_velocity_rps = Eigen::Vector3d::Zero();  ///< rig axes
+};
+
+/// One actor at the frame's time. Velocities are absolute (world motion) expressed in rig axes,
+/// as the estimators report them; the reference point is the actor's origin (the centre of its
+/// footprint on the ground).
+struct ActorTruth {
+  std::uint32_t id = 0;
+  std::string class_name;
+  Eigen::Isometry3d T_world_actor = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d position_rig_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity_rig_mps = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular_velocity_rig_rps = Eigen::Vector3d::Zero();
+  int pixels = 0;  ///< pixels of this frame that hit the actor
+};
+
+struct FrameTruth {
+  double stamp_s = 0.0;
+  EgoTruth ego;
+  std::vector<ActorTruth> actors;
+};
+
 /// One frame: the scan and, for simulated data, its ground truth.
 struct Frame {
   Scan scan;
   std::optional<PixelGroundTruth> truth;
+  std::optional<FrameTruth> frame_truth;
 };
 
 }  // namespace fmcw::core

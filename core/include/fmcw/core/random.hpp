@@ -18,12 +18,13 @@ class Rng {
   std::uint64_t next_u64();
   double uniform();                     ///< [0, 1)
   std::uint64_t uniform_below(std::uint64_t n);  ///< [0, n), unbiased
-  double normal();                      ///< standard normal (Box-Muller, cached pair)
+  /// Standard normal by the ziggurat method (128 layers): about 99 % of draws cost one
+  /// generator step, a table lookup and a multiply; the rest fall back to exact rejection.
+  double normal();
 
  private:
+  double normal_slow(std::int64_t hz, int iz);
   std::uint64_t s_[4];
-  bool has_spare_ = false;
-  double spare_ = 0.0;
 };
 
 /// Indices of min(k, n) elements of [0, n) chosen uniformly without replacement, in ascending

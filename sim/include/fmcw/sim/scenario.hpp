@@ -1,0 +1,91 @@
+#pragma once
+// Scenarios: a YAML description of the rig, the measurement model, the static world, the ego
+// trajectory and the actors, loaded strictly and built into a Scene and a LidarSimulator.
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fmcw/sim/lidar_simulator.hpp"
+#include "fmcw/sim/mesh_asset.hpp"
+#include "fmcw/sim/scene.hpp"
+#include "fmcw/sim/trajectory.hpp"
+
+namespace fmcw::sim {
+
+struct TrajectorySpec {
+  std::string type = "static";  ///< static | constant_velocity | constant_turn_rate | waypoints
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< start pose (not for waypoints)
+  Eigen::Vector3d velocity_mps = Eigen::Vector3d::Zero();  ///< constant_velocity, world frame
+  double speed_mps = 0.0;                                  ///< constant_turn_rate
+  double yaw_rate_rps = 0.0;                               ///< constant_turn_rate
+  WaypointPath path;                                       ///< waypoints
+
+  std::unique_ptr<Trajectory> make() const;
+  double nominal_speed_mps() const;  ///< for gait frequency: typical speed along the trajectory
+};
+
+struct ObjectSpec {
+  std::string name;
+  std::string class_name = "static";
+  std::uint32_t id = 0;           ///< 0 for static objects
+  std::string mesh;               ///< as written in the scenario
+  std::string mesh_path;          ///< resolved against the scenario's folder
+  Eigen::Affine3d T_body_asset = Eigen::Affine3d::Identity();  ///< mesh_transform
+  TrajectorySpec trajectory;
+  bool animate = true;  ///< spin parts named wheel*, walk pedestrians
+};
+
+struct Scenario {
+  std::string name;
+  std::string source_file;
+  int frames = 1;
+  double rate_hz = 10.0;
+  double start_time_s = 0.0;
+  std::uint64_t seed = 0;
+  core::RigModel rig = core::RigModel::paper_rig();
+  std::string rig_source;  ///< the config file the rig came from, or "inline"
+  MeasurementParams measurement;
+  double moving_threshold_mps = 0.1;
+  std::string materials_file;
+  ReflectivityTable materials;
+  float default_reflectivity = 0.3f;
+  bool ground = true;
+  double ground_z_m = 0.0;
+  double ground_half_size_m = 300.0;
+  float ground_reflectivity = 0.1f;
+  TrajectorySpec ego;
+  std::vector<ObjectSpec> statics;
+  std::vector<ObjectSpec> actors;
+
+  double frame_time_s(std::uint64_t frame) const { return start_time_s + static_cast<double>(frame) / rate_hz; }
+};
+
+/// Loads and checks a scenario. Errors (std::invalid_argument) name the file, the line and the
+/// key path: malformed YAML, unknown keys, wrong types, out-of-range values, missing meshes or
+/// configs, meshes assimp cannot read or without triangles, bad trajectories, heads without
+/// pixels. Meshes are loaded here so that every such error shows before anything is written.
+struct LoadedScenario {
+  Scenario scenario;
+  std::vector<std::shared_ptr<const MeshAsset>> static_meshes;  ///< one per static object
+  std::vector<std::shared_ptr<const MeshAsset>> actor_meshes;   ///< one per actor
+};
+LoadedScenario load_scenario(const std::string& path);
+
+/// Loads a rig config (the `rig:` file of a scenario): heads with mount, fov_deg, resolution_deg,
+/// max_range_m, rate_hz.
+core::RigModel load_rig(const std::string& path);
+
+/// The scenario as resolved (defaults filled in, paths resolved), as YAML text.
+std::string scenario_to_yaml(const Scenario& scenario);
+
+/// Builds the Embree scene and the simulator for a loaded scenario.
+struct SimulationSetup {
+  std::shared_ptr<Scene> scene;
+  std::shared_ptr<const Trajectory> ego;
+  LidarSimulatorParams params;
+};
+SimulationSetup build_simulation(const LoadedScenario& loaded, int num_threads = 0);
+
+}  // namespace fmcw::sim

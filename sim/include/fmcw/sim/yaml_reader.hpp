@@ -1,0 +1,64 @@
+#pragma once
+// Strict YAML access: every read names file, line and key path on error, and every map must
+// have its keys consumed, so an unknown or misspelt key is an error, not silently ignored.
+
+#include <yaml-cpp/yaml.h>
+
+#include <set>
+#include <string>
+#include <vector>
+
+namespace fmcw::sim {
+
+class YamlValue {
+ public:
+  YamlValue(YAML::Node node, std::string file, std::string path);
+  /// Parses a file; std::invalid_argument with file:line:column for malformed YAML, a missing
+  /// file, or an empty document.
+  static YamlValue load_file(const std::string& file);
+
+  const std::string& file() const { return file_; }
+  const std::string& path() const { return path_; }
+  std::string where() const;  ///< "file:line: path"
+  bool is_map() const { return node_.IsMap(); }
+  bool is_sequence() const { return node_.IsSequence(); }
+  bool is_scalar() const { return node_.IsScalar(); }
+
+  double as_double() const;
+  int as_int() const;
+  std::uint64_t as_uint64() const;
+  bool as_bool() const;
+  std::string as_string() const;
+  std::vector<YamlValue> items() const;           ///< a sequence's elements
+  std::vector<double> as_doubles() const;          ///< a number or a sequence of numbers
+  [[noreturn]] void fail(const std::string& what) const;
+  const YAML::Node& node() const { return node_; }
+
+ private:
+  YAML::Node node_;
+  std::string file_;
+  std::string path_;
+};
+
+/// A YAML map whose keys must all be read before finish().
+class YamlMap {
+ public:
+  explicit YamlMap(const YamlValue& value);
+  bool has(const std::string& key) const;
+  YamlValue at(const std::string& key);  ///< required key
+  double get(const std::string& key, double fallback);
+  int get(const std::string& key, int fallback);
+  std::uint64_t get(const std::string& key, std::uint64_t fallback);
+  bool get(const std::string& key, bool fallback);
+  std::string get(const std::string& key, const std::string& fallback);
+  /// Throws for any key that was never asked for, listing the keys that were (read them all,
+  /// optional ones included, before calling this).
+  void finish() const;
+  const YamlValue& value() const { return value_; }
+
+ private:
+  YamlValue value_;
+  std::set<std::string> used_;
+};
+
+}  // namespace fmcw::sim

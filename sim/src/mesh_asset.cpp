@@ -1,0 +1,89 @@
+#include "fmcw/sim/mesh_asset.hpp"
+
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <assimp/Importer.hpp>
+#include <filesystem>
+#include <stdexcept>
+
+namespace fmcw::sim {
+
+namespace {
+Eigen::Affine3d to_eigen(const aiMatrix4x4& m) {
+  Eigen::Matrix4d e;
+  e << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3, m.d4;
+  return Eigen::Affine3d(e);
+}
+
+void add_node(const aiScene* scene, const aiNode* node, int parent, const ReflectivityTable& table, float fallback,
+              MeshAsset& asset, const Eigen::Affine3d& T_asset_parent) {
+  MeshPart part;
+  part.name = node->mName.C_Str();
+  part.parent = parent;
+  part.T_parent_part = to_eigen(node->mTransformation);
+  const Eigen::Affine3d T_asset_part = T_asset_parent * part.T_parent_part;
+  for (unsigned k = 0; k < node->mNumMeshes; ++k) {
+    const aiMesh* mesh = scene->mMeshes[node->mMeshes[k]];
+    if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+    float reflectivity = fallback;
+    if (mesh->mMaterialIndex < scene->mNumMaterials) {
+      aiString name;
+      if (scene->mMaterials[mesh->mMaterialIndex]->Get(AI_MATKEY_NAME, name) == AI_SUCCESS) {
+        const auto it = table.find(name.C_Str());
+        if (it != table.end()) reflectivity = it->second;
+      }
+    }
+    const auto base = static_cast<std::uint32_t>(part.vertices.size());
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+      const aiVector3D& p = mesh->mVertices[v];
+      part.vertices.emplace_back(p.x, p.y, p.z);
+      asset.rest_bounds.extend(T_asset_part * Eigen::Vector3d(p.x, p.y, p.z));
+    }
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      if (face.mNumIndices != 3) continue;
+      for (int c = 0; c < 3; ++c) part.indices.push_back(base + face.mIndices[c]);
+      part.triangle_reflectivity.push_back(reflectivity);
+    }
+  }
+  const int self = static_cast<int>(asset.parts.size());
+  asset.parts.push_back(std::move(part));
+  for (unsigned c = 0; c < node->mNumChildren; ++c) {
+    add_node(scene, node->mChildren[c], self, table, fallback, asset, T_asset_part);
+  }
+}
+}  // namespace
+
+std::size_t MeshAsset::triangle_count() const {
+  std::size_t n = 0;
+  for (const auto& p : parts) n += p.triangle_count();
+  return n;
+}
+
+int MeshAsset::find_part(const std::string& name) const {
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    if (parts[k].name == name) return static_cast<int>(k);
+  }
+  return -1;
+}
+
+MeshAsset load_mesh_asset(const std::string& path, const ReflectivityTable& reflectivity, float default_reflectivity) {
+  if (!std::filesystem::is_regular_file(path)) {
+    throw std::invalid_argument("mesh '" + path + "' does not exist");
+  }
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(
+      path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
+                aiProcess_FindDegenerates | aiProcess_ValidateDataStructure);
+  if (scene == nullptr || scene->mRootNode == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
+    throw std::invalid_argument("mesh '" + path + "' cannot be read: " + importer.GetErrorString());
+  }
+  MeshAsset asset;
+  asset.path = path;
+  add_node(scene, scene->mRootNode, -1, reflectivity, default_reflectivity, asset, Eigen::Affine3d::Identity());
+  if (asset.triangle_count() == 0) throw std::invalid_argument("mesh '" + path + "' holds no triangles");
+  return asset;
+}
+
+}  // namespace fmcw::sim

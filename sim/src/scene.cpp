@@ -1,0 +1,336 @@
+#include "fmcw/sim/scene.hpp"
+
+#include <embree3/rtcore.h>
+
+#include <cmath>
+#include <limits>
+#include <map>
+#include <stdexcept>
+#include <string>
+
+namespace fmcw::sim {
+
+namespace {
+
+void embree_error(void* user, RTCError code, const char* message) {
+  auto* last = static_cast<std::string*>(user);
+  *last = "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (message ? message : "");
+}
+
+Eigen::Matrix3d skew(const Eigen::Vector3d& w) {
+  Eigen::Matrix3d m;
+  m << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
+  return m;
+}
+
+// World transform of a part and its time derivative, as 4x4 matrices (last row 0 0 0 1 / 0).
+struct PartMotion {
+  Eigen::Matrix4d M = Eigen::Matrix4d::Identity();
+  Eigen::Matrix4d M_dot = Eigen::Matrix4d::Zero();
+};
+
+// Joint rotation about a unit axis and its derivative with respect to time.
+void joint_matrices(const JointMotion& joint, double t, Eigen::Matrix4d& J, Eigen::Matrix4d& J_dot) {
+  const double angle = joint.angle_rad(t);
+  const double rate = joint.rate_rps(t);
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(angle, joint.axis.normalized()).toRotationMatrix();
+  J.setIdentity();
+  J.topLeftCorner<3, 3>() = R;
+  J_dot.setZero();
+  J_dot.topLeftCorner<3, 3>() = rate * skew(joint.axis.normalized()) * R;
+}
+
+}  // namespace
+
+struct Scene::Impl {
+  RTCDevice device = nullptr;
+  RTCScene top = nullptr;
+  RTCScene static_scene = nullptr;
+  std::string last_error;
+  // Static world: triangles in world coordinates, merged.
+  std::vector<float> static_vertices;
+  std::vector<std::uint32_t> static_indices;
+  // One Embree scene per asset part with triangles, shared between actors of the same asset.
+  std::map<std::pair<const MeshAsset*, int>, RTCScene> part_scenes;
+  // Instance slots: 0 = static world, then one per (actor, part with triangles).
+  struct Slot {
+    int actor = -1;
+    int part = -1;
+    RTCGeometry instance = nullptr;
+  };
+  std::vector<Slot> slots;
+  // Per actor: per-part motion at the current time.
+  std::vector<std::vector<PartMotion>> part_motion;
+  std::vector<std::vector<Eigen::Matrix<double, 3, 4>>> velocity_field;  // v(p) = K [p; 1]
+  std::vector<std::vector<Eigen::Matrix3d>> normal_matrix;               // inverse transpose of M's 3x3
+
+  void check(const char* what) const {
+    if (!last_error.empty()) throw std::runtime_error(std::string(what) + ": " + last_error);
+  }
+};
+
+Scene::Scene() : impl_(std::make_unique<Impl>()) {
+  impl_->device = rtcNewDevice("threads=1");
+  if (impl_->device == nullptr) throw std::runtime_error("Embree: cannot create a device");
+  rtcSetDeviceErrorFunction(impl_->device, embree_error, &impl_->last_error);
+}
+
+Scene::~Scene() {
+  for (auto& slot : impl_->slots) {
+    if (slot.instance) rtcReleaseGeometry(slot.instance);
+  }
+  for (auto& [key, scene] : impl_->part_scenes) rtcReleaseScene(scene);
+  if (impl_->static_scene) rtcReleaseScene(impl_->static_scene);
+  if (impl_->top) rtcReleaseScene(impl_->top);
+  if (impl_->device) rtcReleaseDevice(impl_->device);
+}
+
+void Scene::add_ground_plane(double z_m, double half_size_m, float reflectivity) {
+  const auto base = static_cast<std::uint32_t>(impl_->static_vertices.size() / 3);
+  const double h = half_size_m;
+  const double corners[4][2] = {{-h, -h}, {h, -h}, {h, h}, {-h, h}};
+  for (const auto& c : corners) {
+    impl_->static_vertices.insert(impl_->static_vertices.end(),
+                                  {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(z_m)});
+  }
+  for (const std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) impl_->static_indices.push_back(base + i);
+  static_reflectivity_.insert(static_reflectivity_.end(), 2, reflectivity);
+}
+
+void Scene::add(SceneObject object) {
+  if (!object.asset) throw std::invalid_argument("scene object '" + object.name + "' has no mesh");
+  if (!object.trajectory) throw std::invalid_argument("scene object '" + object.name + "' has no trajectory");
+  if (object.actor_id != 0) {
+    actors_.push_back(std::move(object));
+    return;
+  }
+  // Bake the static object's parts at their rest pose.
+  const MeshAsset& asset = *object.asset;
+  const Eigen::Affine3d T_world_asset =
+      Eigen::Affine3d(object.trajectory->state(0.0).T_world_body.matrix()) * object.T_body_asset;
+  std::vector<Eigen::Affine3d> T_world_part(asset.parts.size());
+  for (std::size_t k = 0; k < asset.parts.size(); ++k) {
+    const MeshPart& part = asset.parts[k];
+    const Eigen::Affine3d parent = part.parent < 0 ? T_world_asset : T_world_part[static_cast<std::size_t>(part.parent)];
+    T_world_part[k] = parent * part.T_parent_part;
+    const auto base = static_cast<std::uint32_t>(impl_->static_vertices.size() / 3);
+    for (const auto& v : part.vertices) {
+      const Eigen::Vector3d w = T_world_part[k] * v.cast<double>();
+      impl_->static_vertices.insert(impl_->static_vertices.end(),
+                                    {static_cast<float>(w.x()), static_cast<float>(w.y()), static_cast<float>(w.z())});
+    }
+    for (const auto i : part.indices) impl_->static_indices.push_back(base + i);
+    static_reflectivity_.insert(static_reflectivity_.end(), part.triangle_reflectivity.begin(),
+                                part.triangle_reflectivity.end());
+  }
+}
+
+void Scene::build() {
+  Impl& im = *impl_;
+  im.top = rtcNewScene(im.device);
+  rtcSetSceneFlags(im.top, RTC_SCENE_FLAG_DYNAMIC);
+  rtcSetSceneBuildQuality(im.top, RTC_BUILD_QUALITY_LOW);
+
+  // Slot 0: the static world, one high-quality BVH, instanced once with the identity.
+  im.static_scene = rtcNewScene(im.device);
+  rtcSetSceneBuildQuality(im.static_scene, RTC_BUILD_QUALITY_HIGH);
+  if (!im.static_indices.empty()) {
+    RTCGeometry geom = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                            3 * sizeof(float), im.static_vertices.size() / 3));
+    auto* ib = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                    3 * sizeof(std::uint32_t), im.static_indices.size() / 3));
+    im.check("static world buffers");
+    std::copy(im.static_vertices.begin(), im.static_vertices.end(), vb);
+    std::copy(im.static_indices.begin(), im.static_indices.end(), ib);
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(im.static_scene, geom, 0);
+    rtcReleaseGeometry(geom);
+  }
+  rtcCommitScene(im.static_scene);
+  im.check("static world BVH");
+  {
+    RTCGeometry inst = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(inst, im.static_scene);
+    const float identity[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+    rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, identity);
+    rtcCommitGeometry(inst);
+    rtcAttachGeometryByID(im.top, inst, 0);
+    im.slots.push_back({-1, -1, inst});
+  }
+
+  // Actors: one BVH per asset part, one instance per actor part.
+  im.part_motion.resize(actors_.size());
+  im.velocity_field.resize(actors_.size());
+  im.normal_matrix.resize(actors_.size());
+  actor_states_.resize(actors_.size());
+  for (std::size_t a = 0; a < actors_.size(); ++a) {
+    const MeshAsset& asset = *actors_[a].asset;
+    im.part_motion[a].resize(asset.parts.size());
+    im.velocity_field[a].resize(asset.parts.size(), Eigen::Matrix<double, 3, 4>::Zero());
+    im.normal_matrix[a].resize(asset.parts.size(), Eigen::Matrix3d::Identity());
+    for (std::size_t k = 0; k < asset.parts.size(); ++k) {
+      const MeshPart& part = asset.parts[k];
+      if (part.triangle_count() == 0) continue;
+      const auto key = std::make_pair(&asset, static_cast<int>(k));
+      auto it = im.part_scenes.find(key);
+      if (it == im.part_scenes.end()) {
+        RTCScene scene = rtcNewScene(im.device);
+        rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+        RTCGeometry geom = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                3 * sizeof(float), part.vertices.size()));
+        auto* ib = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), part.triangle_count()));
+        im.check("actor mesh buffers");
+        for (std::size_t v = 0; v < part.vertices.size(); ++v) {
+          vb[3 * v] = part.vertices[v].x();
+          vb[3 * v + 1] = part.vertices[v].y();
+          vb[3 * v + 2] = part.vertices[v].z();
+        }
+        std::copy(part.indices.begin(), part.indices.end(), ib);
+        rtcCommitGeometry(geom);
+        rtcAttachGeometryByID(scene, geom, 0);
+        rtcReleaseGeometry(geom);
+        rtcCommitScene(scene);
+        im.check(("mesh '" + asset.path + "' part '" + part.name + "'").c_str());
+        it = im.part_scenes.emplace(key, scene).first;
+      }
+      RTCGeometry inst = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_INSTANCE);
+      rtcSetGeometryInstancedScene(inst, it->second);
+      const auto slot = static_cast<unsigned>(im.slots.size());
+      rtcAttachGeometryByID(im.top, inst, slot);
+      im.slots.push_back({static_cast<int>(a), static_cast<int>(k), inst});
+    }
+  }
+  im.check("scene build");
+  set_time(0.0);
+}
+
+void Scene::set_time(double t_s) {
+  Impl& im = *impl_;
+  time_s_ = t_s;
+  for (std::size_t a = 0; a < actors_.size(); ++a) {
+    const SceneObject& actor = actors_[a];
+    const MeshAsset& asset = *actor.asset;
+    const MotionState state = actor.trajectory->state(t_s);
+    actor_states_[a] = state;
+    // Body: rigid motion, M = [R p], M_dot = [[w]x R, v].
+    Eigen::Matrix4d M_body = state.T_world_body.matrix();
+    Eigen::Matrix4d M_body_dot = Eigen::Matrix4d::Zero();
+    M_body_dot.topLeftCorner<3, 3>() = skew(state.twist.angular_rps) * state.T_world_body.linear();
+    M_body_dot.topRightCorner<3, 1>() = state.twist.linear_mps;
+    const Eigen::Matrix4d M_asset = M_body * actor.T_body_asset.matrix();
+    const Eigen::Matrix4d M_asset_dot = M_body_dot * actor.T_body_asset.matrix();
+    // Forward speed, for the wheels.
+    const double forward_mps = (state.T_world_body.linear().transpose() * state.twist.linear_mps).x();
+    std::vector<PartMotion>& motion = im.part_motion[a];
+    for (std::size_t k = 0; k < asset.parts.size(); ++k) {
+      const MeshPart& part = asset.parts[k];
+      Eigen::Matrix4d L = part.T_parent_part.matrix();
+      Eigen::Matrix4d L_dot = Eigen::Matrix4d::Zero();
+      const JointMotion* joint = nullptr;
+      JointMotion wheel;
+      for (const auto& [index, j] : actor.joints) {
+        if (index == static_cast<int>(k)) joint = &j;
+      }
+      for (const auto& [index, radius] : actor.wheels) {
+        if (index == static_cast<int>(k)) {
+          wheel.axis = Eigen::Vector3d::UnitY();
+          wheel.spin_rate_rps = forward_mps / radius;
+          joint = &wheel;
+        }
+      }
+      if (joint != nullptr) {
+        Eigen::Matrix4d J, J_dot;
+        joint_matrices(*joint, t_s, J, J_dot);
+        L_dot = L * J_dot;
+        L = L * J;
+      }
+      const Eigen::Matrix4d& P = part.parent < 0 ? M_asset : motion[static_cast<std::size_t>(part.parent)].M;
+      const Eigen::Matrix4d& P_dot = part.parent < 0 ? M_asset_dot : motion[static_cast<std::size_t>(part.parent)].M_dot;
+      motion[k].M = P * L;
+      motion[k].M_dot = P_dot * L + P * L_dot;  // product rule
+      // Velocity field of the part's points: v(p) = M_dot M^-1 p.
+      const Eigen::Matrix4d M_inv = motion[k].M.inverse();
+      im.velocity_field[a][k] = (motion[k].M_dot * M_inv).topRows<3>();
+      im.normal_matrix[a][k] = M_inv.topLeftCorner<3, 3>().transpose();
+    }
+  }
+  for (std::size_t s = 1; s < im.slots.size(); ++s) {
+    const Impl::Slot& slot = im.slots[s];
+    const Eigen::Matrix4d& M = im.part_motion[static_cast<std::size_t>(slot.actor)][static_cast<std::size_t>(slot.part)].M;
+    float xfm[12];
+    for (int c = 0; c < 4; ++c) {
+      for (int r = 0; r < 3; ++r) xfm[3 * c + r] = static_cast<float>(M(r, c));
+    }
+    rtcSetGeometryTransform(slot.instance, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+    rtcCommitGeometry(slot.instance);
+  }
+  rtcCommitScene(im.top);
+  im.check("scene update");
+}
+
+void Scene::intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f* directions, std::size_t count, float near_m,
+                      float far_m, RayHit* hits) const {
+  constexpr std::size_t kChunk = 256;
+  RTCRayHit rays[kChunk];
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  for (std::size_t begin = 0; begin < count; begin += kChunk) {
+    const std::size_t n = std::min(kChunk, count - begin);
+    for (std::size_t k = 0; k < n; ++k) {
+      RTCRayHit& rh = rays[k];
+      const Eigen::Vector3f& d = directions[begin + k];
+      rh.ray.org_x = origin.x();
+      rh.ray.org_y = origin.y();
+      rh.ray.org_z = origin.z();
+      rh.ray.dir_x = d.x();
+      rh.ray.dir_y = d.y();
+      rh.ray.dir_z = d.z();
+      rh.ray.tnear = near_m;
+      rh.ray.tfar = far_m;
+      rh.ray.time = 0.0f;
+      rh.ray.mask = 0xFFFFFFFFu;
+      rh.ray.id = static_cast<unsigned>(k);
+      rh.ray.flags = 0;
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect1M(impl_->top, &context, rays, static_cast<unsigned>(n), sizeof(RTCRayHit));
+    for (std::size_t k = 0; k < n; ++k) {
+      const RTCRayHit& rh = rays[k];
+      RayHit& out = hits[begin + k];
+      if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+        out.distance_m = std::numeric_limits<float>::infinity();
+        continue;
+      }
+      out.distance_m = rh.ray.tfar;
+      out.slot = rh.hit.instID[0];
+      out.primitive = rh.hit.primID;
+      out.normal_object = Eigen::Vector3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    }
+  }
+}
+
+SurfaceSample Scene::resolve(const RayHit& hit, const Eigen::Vector3d& point_world) const {
+  SurfaceSample s;
+  const Impl::Slot& slot = impl_->slots.at(hit.slot);
+  if (hit.slot == 0) {
+    s.normal_world = hit.normal_object.cast<double>().normalized();
+    s.reflectivity = static_reflectivity_[hit.primitive];
+    return s;
+  }
+  const auto a = static_cast<std::size_t>(slot.actor);
+  const auto k = static_cast<std::size_t>(slot.part);
+  const Eigen::Matrix<double, 3, 4>& K = impl_->velocity_field[a][k];
+  s.velocity_world_mps = K.leftCols<3>() * point_world + K.col(3);
+  // Normals transform with the inverse transpose (parts may be scaled).
+  s.normal_world = (impl_->normal_matrix[a][k] * hit.normal_object.cast<double>()).normalized();
+  s.reflectivity = actors_[a].asset->parts[k].triangle_reflectivity[hit.primitive];
+  s.actor_id = actors_[a].actor_id;
+  return s;
+}
+
+}  // namespace fmcw::sim

@@ -1,0 +1,137 @@
+#include "fmcw/sim/yaml_reader.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace fmcw::sim {
+
+YamlValue::YamlValue(YAML::Node node, std::string file, std::string path)
+    : node_(std::move(node)), file_(std::move(file)), path_(std::move(path)) {}
+
+YamlValue YamlValue::load_file(const std::string& file) {
+  if (!std::filesystem::is_regular_file(file)) throw std::invalid_argument(file + ": file does not exist");
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(file);
+  } catch (const YAML::Exception& e) {
+    std::ostringstream msg;
+    msg << file << ":" << e.mark.line + 1 << ":" << e.mark.column + 1 << ": malformed YAML: " << e.msg;
+    throw std::invalid_argument(msg.str());
+  }
+  if (!root.IsDefined() || root.IsNull()) throw std::invalid_argument(file + ": empty YAML document");
+  return YamlValue(root, file, "");
+}
+
+std::string YamlValue::where() const {
+  std::ostringstream out;
+  out << file_;
+  const YAML::Mark mark = node_.Mark();
+  if (mark.line >= 0) out << ":" << mark.line + 1;
+  out << ": " << (path_.empty() ? "(top level)" : path_);
+  return out.str();
+}
+
+void YamlValue::fail(const std::string& what) const { throw std::invalid_argument(where() + ": " + what); }
+
+double YamlValue::as_double() const {
+  if (!node_.IsScalar()) fail("expected a number");
+  const std::string text = node_.Scalar();
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end == nullptr || *end != '\0' || !std::isfinite(v)) fail("expected a finite number, got '" + text + "'");
+  return v;
+}
+
+int YamlValue::as_int() const {
+  const double v = as_double();
+  if (v != std::floor(v) || std::abs(v) > std::numeric_limits<int>::max()) fail("expected an integer, got '" + node_.Scalar() + "'");
+  return static_cast<int>(v);
+}
+
+std::uint64_t YamlValue::as_uint64() const {
+  if (!node_.IsScalar()) fail("expected a non-negative integer");
+  const std::string text = node_.Scalar();
+  std::size_t used = 0;
+  unsigned long long v = 0;
+  try {
+    v = std::stoull(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || text[0] == '-') fail("expected a non-negative integer, got '" + text + "'");
+  return v;
+}
+
+bool YamlValue::as_bool() const {
+  if (!node_.IsScalar()) fail("expected true or false");
+  const std::string t = node_.Scalar();
+  if (t == "true") return true;
+  if (t == "false") return false;
+  fail("expected true or false, got '" + t + "'");
+}
+
+std::string YamlValue::as_string() const {
+  if (!node_.IsScalar()) fail("expected a string");
+  return node_.Scalar();
+}
+
+std::vector<YamlValue> YamlValue::items() const {
+  if (!node_.IsSequence()) fail("expected a list");
+  std::vector<YamlValue> out;
+  for (std::size_t k = 0; k < node_.size(); ++k) {
+    out.emplace_back(node_[k], file_, path_ + "[" + std::to_string(k) + "]");
+  }
+  return out;
+}
+
+std::vector<double> YamlValue::as_doubles() const {
+  if (node_.IsScalar()) return {as_double()};
+  std::vector<double> out;
+  for (const auto& item : items()) out.push_back(item.as_double());
+  return out;
+}
+
+YamlMap::YamlMap(const YamlValue& value) : value_(value) {
+  if (!value.is_map()) value.fail("expected a map of keys");
+}
+
+bool YamlMap::has(const std::string& key) const {
+  const YAML::Node& node = value_.node();
+  return static_cast<bool>(node[key]);
+}
+
+YamlValue YamlMap::at(const std::string& key) {
+  used_.insert(key);
+  const YAML::Node& node = value_.node();
+  const std::string path = value_.path().empty() ? key : value_.path() + "." + key;
+  if (!node[key]) value_.fail("missing required key '" + key + "'");
+  return YamlValue(node[key], value_.file(), path);
+}
+
+double YamlMap::get(const std::string& key, double fallback) { return has(key) ? at(key).as_double() : (used_.insert(key), fallback); }
+int YamlMap::get(const std::string& key, int fallback) { return has(key) ? at(key).as_int() : (used_.insert(key), fallback); }
+std::uint64_t YamlMap::get(const std::string& key, std::uint64_t fallback) {
+  return has(key) ? at(key).as_uint64() : (used_.insert(key), fallback);
+}
+bool YamlMap::get(const std::string& key, bool fallback) { return has(key) ? at(key).as_bool() : (used_.insert(key), fallback); }
+std::string YamlMap::get(const std::string& key, const std::string& fallback) {
+  return has(key) ? at(key).as_string() : (used_.insert(key), fallback);
+}
+
+void YamlMap::finish() const {
+  for (const auto& kv : value_.node()) {
+    const std::string key = kv.first.as<std::string>();
+    if (used_.count(key)) continue;
+    std::string list;
+    for (const auto& a : used_) list += (list.empty() ? "" : ", ") + a;
+    std::ostringstream msg;
+    msg << value_.file() << ":" << kv.first.Mark().line + 1 << ": unknown key '" << key << "' in "
+        << (value_.path().empty() ? "the top level" : value_.path()) << " (accepted: " << list << ")";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+}  // namespace fmcw::sim

@@ -1,0 +1,125 @@
+// Scenario loading: the shipped scenarios load, and bad input names file, line and key.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "fmcw/sim/scenario.hpp"
+
+namespace fmcw::sim {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kSource = FMCW_SOURCE_DIR;
+
+class ScenarioFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("fmcw_scenario_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) {
+    const std::string path = (dir_ / name).string();
+    std::ofstream(path) << text;
+    return path;
+  }
+  // The scenario text must fail to load with a message holding every fragment.
+  void expect_error(const std::string& text, const std::vector<std::string>& fragments) {
+    const std::string path = write("s.yaml", text);
+    try {
+      load_scenario(path);
+      FAIL() << "expected an error for:\n" << text;
+    } catch (const std::invalid_argument& e) {
+      for (const auto& f : fragments) EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
+    }
+  }
+  std::string asset(const std::string& name) const { return kSource + "/assets/" + name; }
+  fs::path dir_;
+};
+
+TEST_F(ScenarioFiles, ShippedIntersectionLoadsWithItsActorsAndRig) {
+  const LoadedScenario s = load_scenario(kSource + "/scenarios/intersection.yaml");
+  EXPECT_EQ(s.scenario.frames, 135);
+  EXPECT_EQ(s.scenario.rig.cols(), 600);
+  EXPECT_EQ(s.scenario.rig.rows(), 150);
+  EXPECT_GE(s.scenario.actors.size(), 10u);
+  EXPECT_EQ(s.scenario.ego.type, "static");
+  const std::string yaml = scenario_to_yaml(s.scenario);
+  EXPECT_NE(yaml.find("velocity_sigma_mps: 0.031"), std::string::npos) << yaml.substr(0, 2000);
+}
+
+TEST_F(ScenarioFiles, AssetsLoadWithTheirParts) {
+  const ReflectivityTable table = {{"car_paint", 0.3f}, {"tire", 0.05f}};
+  const MeshAsset car = load_mesh_asset(asset("car.gltf"), table, 0.2f);
+  EXPECT_GE(car.find_part("wheel_fl"), 0);
+  EXPECT_GE(car.find_part("body"), 0);
+  EXPECT_NEAR(car.rest_bounds.sizes().x(), 4.5, 0.1);
+  const MeshAsset ped = load_mesh_asset(asset("pedestrian.gltf"), table, 0.2f);
+  const int thigh = ped.find_part("upper_leg_l");
+  ASSERT_GE(thigh, 0);
+  EXPECT_EQ(ped.parts[static_cast<std::size_t>(ped.find_part("lower_leg_l"))].parent, thigh);
+}
+
+TEST_F(ScenarioFiles, MalformedYamlNamesFileAndLine) {
+  expect_error("name: x\nframes: [1, 2\n", {"s.yaml:", "malformed YAML"});
+}
+
+TEST_F(ScenarioFiles, UnknownKeyIsNamedWithItsPlace) {
+  expect_error("name: x\nframs: 3\n", {"s.yaml:2: unknown key 'frams' in the top level", "accepted:", "frames"});
+  expect_error("ego:\n  trajectory: {type: static, pose: {x: 1, yaww_deg: 3}}\n",
+               {"unknown key 'yaww_deg' in ego.trajectory.pose"});
+}
+
+TEST_F(ScenarioFiles, WrongTypesAndOutOfRangeValuesAreRejected) {
+  expect_error("frames: many\n", {"s.yaml:1: frames: expected a finite number, got 'many'"});
+  expect_error("frames: 0\n", {"frames must be >= 1"});
+  expect_error("rate_hz: -10\n", {"rate_hz must be > 0"});
+  expect_error("measurement: {range_sigma_m: -1}\n", {"measurement", "range_sigma_m must be >= 0"});
+}
+
+TEST_F(ScenarioFiles, RigErrorsNameTheHead) {
+  expect_error("rig:\n  heads:\n    - {name: a, rate_hz: -10}\n", {"rig.heads[0]", "head 'a': rate must be > 0 Hz, got -10"});
+  expect_error("rig:\n  heads:\n    - {name: a, resolution_deg: [0, 0.2]}\n", {"head 'a': angular resolution must be > 0"});
+  expect_error("rig:\n  heads:\n    - {name: a, fov_deg: [400, 30]}\n", {"horizontal field of view must be in (0, 360]"});
+  expect_error("rig:\n  heads:\n    - {name: a, fov_deg: [0.01, 30]}\n", {"gives no pixels"});
+  expect_error("rig:\n  heads:\n    - {name: a, max_range_m: 0}\n", {"max range must be > 0"});
+  expect_error("rig: nowhere.yaml\n", {"rig config", "nowhere.yaml' does not exist"});
+}
+
+TEST_F(ScenarioFiles, MeshProblemsAreNamed) {
+  expect_error("static:\n  - {mesh: missing.obj}\n", {"static[0].mesh", "missing.obj' does not exist"});
+  write("garbage.obj", "this is not a mesh\n\x01\x02\x03");
+  write("garbage.gltf", "{ not json");
+  expect_error("static:\n  - {mesh: garbage.gltf}\n", {"static[0]", "garbage.gltf' cannot be read"});
+  write("empty.obj", "# no faces\nv 0 0 0\nv 1 0 0\n");
+  expect_error("static:\n  - {mesh: empty.obj}\n", {"static[0]", "empty.obj'"});
+}
+
+TEST_F(ScenarioFiles, TrajectoryProblemsAreNamed) {
+  const std::string car = asset("car.gltf");
+  expect_error("actors:\n  - {id: 1, class: car, mesh: " + car +
+                   ", trajectory: {type: waypoints, points: [[0, 0]], speed_mps: 3}}\n",
+               {"actors[0].trajectory"});
+  expect_error("actors:\n  - {id: 1, class: car, mesh: " + car + ", trajectory: {type: teleport}}\n",
+               {"unknown trajectory type 'teleport'"});
+  expect_error("actors:\n  - {id: 0, class: car, mesh: " + car + ", trajectory: {type: static}}\n",
+               {"actor id must be in [1, 4294967294]"});
+  expect_error("actors:\n  - {id: 2, class: car, mesh: " + car + ", trajectory: {type: static}}\n  - {id: 2, class: car, mesh: " +
+                   car + ", trajectory: {type: static}}\n",
+               {"actor id 2 is already used by actors[0]"});
+}
+
+TEST_F(ScenarioFiles, ObjMeshesFromUsersLoad) {
+  write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const std::string path = write("s.yaml", "static:\n  - {mesh: tri.obj, pose: {x: 5}}\n");
+  const LoadedScenario s = load_scenario(path);
+  ASSERT_EQ(s.static_meshes.size(), 1u);
+  EXPECT_EQ(s.static_meshes[0]->triangle_count(), 1u);
+}
+
+}  // namespace
+}  // namespace fmcw::sim

@@ -1,0 +1,261 @@
+// The simulator on analytic scenes: exact ranges, exact Doppler, rigid-body surface velocities,
+// beam origins, noise statistics, determinism across thread counts.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "fmcw/sim/lidar_simulator.hpp"
+#include "fmcw/sim/scene.hpp"
+
+namespace fmcw::sim {
+namespace {
+
+// A closed axis-aligned box [-h, h] as a one-part mesh asset (outward triangles).
+std::shared_ptr<const MeshAsset> box_asset(const Eigen::Vector3f& h, float reflectivity = 0.5f) {
+  MeshAsset asset;
+  MeshPart part;
+  part.name = "box";
+  for (int k = 0; k < 8; ++k) {
+    part.vertices.emplace_back((k & 1) ? h.x() : -h.x(), (k & 2) ? h.y() : -h.y(), (k & 4) ? h.z() : -h.z());
+  }
+  const std::uint32_t faces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                                      {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  for (const auto& f : faces) {
+    part.indices.insert(part.indices.end(), {f[0], f[1], f[2]});
+    part.triangle_reflectivity.push_back(reflectivity);
+  }
+  asset.parts.push_back(part);
+  for (const auto& v : asset.parts[0].vertices) asset.rest_bounds.extend(v.cast<double>());
+  return std::make_shared<const MeshAsset>(asset);
+}
+
+Eigen::Isometry3d at(double x, double y, double z, double yaw = 0.0) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(x, y, z);
+  T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return T;
+}
+
+SceneObject wall_at_x(double x) {
+  SceneObject wall;
+  wall.name = "wall";
+  wall.asset = box_asset({0.5f, 200.0f, 100.0f});
+  wall.trajectory = make_static_trajectory(at(x + 0.5, 0, 0));
+  return wall;
+}
+
+LidarSimulatorParams noise_free(core::RigModel rig) {
+  LidarSimulatorParams p;
+  p.rig = std::move(rig);
+  p.measurement.range_sigma_m = 0.0;
+  p.measurement.velocity_sigma_mps = 0.0;
+  return p;
+}
+
+// One small head, 20 x 10 deg at 0.5 deg, mounted off the rig origin and yawed.
+core::RigModel small_rig() {
+  core::RigModel rig;
+  core::HeadModel head;
+  head.name = "h";
+  head.fov_horizontal_rad = 20.0 * M_PI / 180.0;
+  head.fov_vertical_rad = 10.0 * M_PI / 180.0;
+  head.resolution_horizontal_rad = head.resolution_vertical_rad = 0.5 * M_PI / 180.0;
+  head.T_rig_head = at(1.5, 0.3, 1.2, 5.0 * M_PI / 180.0);
+  rig.heads.push_back(head);
+  return rig;
+}
+
+TEST(LidarSimulator, PlaneAtKnownDistanceGivesExactRanges) {
+  auto scene = std::make_shared<Scene>();
+  scene->add(wall_at_x(20.0));
+  scene->build();
+  const core::RigModel rig = small_rig();
+  LidarSimulator sim(scene, make_static_trajectory(Eigen::Isometry3d::Identity()), noise_free(rig));
+  const core::Frame f = sim.simulate(0, 0.0);
+  const auto dirs = rig.directions_rig();
+  const Eigen::Vector3d o = rig.heads[0].T_rig_head.translation();
+  ASSERT_EQ(f.scan.num_valid(), f.scan.size());
+  for (std::size_t i = 0; i < f.scan.size(); ++i) {
+    const Eigen::Vector3d d = dirs[i].cast<double>().normalized();
+    const double expected = (20.0 - o.x()) / d.x();  // ray from the head's origin to x = 20
+    ASSERT_NEAR(f.scan.range_m[i], expected, 1e-4) << "pixel " << i;
+    ASSERT_NEAR(f.scan.x_m[i], 20.0, 1e-4);
+  }
+}
+
+TEST(LidarSimulator, StaticWorldDopplerIsMinusEDotVOrigin) {
+  auto scene = std::make_shared<Scene>();
+  scene->add(wall_at_x(30.0));
+  scene->add_ground_plane(0.0, 200.0, 0.1f);
+  scene->build();
+  core::RigModel rig = core::RigModel::paper_rig();
+  // Ego turning: V_origin = V + omega x r_mount differs per head.
+  const double speed = 8.0, yaw_rate = 0.3;
+  auto ego = make_constant_turn_rate_trajectory(Eigen::Isometry3d::Identity(), speed, yaw_rate);
+  LidarSimulator sim(scene, std::move(ego), noise_free(rig));
+  const core::Frame f = sim.simulate(0, 0.0);
+  const auto dirs = rig.directions_rig();
+  std::size_t checked = 0;
+  for (std::size_t h = 0; h < rig.heads.size(); ++h) {
+    const Eigen::Vector3d r = rig.heads[h].T_rig_head.translation();
+    const Eigen::Vector3d v_origin = Eigen::Vector3d(speed, 0, 0) + Eigen::Vector3d(0, 0, yaw_rate).cross(r);
+    const auto& info = f.scan.heads[h];
+    for (int row = 0; row < f.scan.rows; ++row) {
+      for (int c = info.col_begin; c < info.col_end; ++c) {
+        const std::size_t i = f.scan.index(row, c);
+        if (!f.scan.valid[i]) continue;
+        const double expected = -dirs[i].cast<double>().normalized().dot(v_origin);
+        ASSERT_NEAR(f.scan.radial_velocity_mps[i], expected, 1e-5) << "head " << h << " pixel " << i;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 80000u);
+  EXPECT_NEAR(f.frame_truth->ego.angular_velocity_rps.z(), yaw_rate, 1e-12);
+}
+
+TEST(LidarSimulator, RotatingActorSurfaceVelocityIsVPlusOmegaCrossR) {
+  auto scene = std::make_shared<Scene>();
+  scene->add(wall_at_x(40.0));
+  SceneObject car;
+  car.name = "spinner";
+  car.class_name = "car";
+  car.actor_id = 7;
+  car.asset = box_asset({2.0f, 1.0f, 0.8f});
+  // Constant turn rate: centre moves at 6 m/s along its heading, turning at 0.5 rad/s.
+  car.trajectory = make_constant_turn_rate_trajectory(at(15.0, 1.0, 1.0, 0.7), 6.0, 0.5);
+  scene->add(std::move(car));
+  scene->build();
+  LidarSimulator sim(scene, make_static_trajectory(Eigen::Isometry3d::Identity()), noise_free(core::RigModel::paper_rig()));
+  const core::Frame f = sim.simulate(0, 0.4);
+  ASSERT_EQ(f.frame_truth->actors.size(), 1u);
+  const core::ActorTruth& a = f.frame_truth->actors[0];
+  EXPECT_GT(a.pixels, 300);
+  const Eigen::Vector3d c = a.position_rig_m;
+  const Eigen::Vector3d w = a.angular_velocity_rig_rps;
+  EXPECT_NEAR(w.z(), 0.5, 1e-12);
+  EXPECT_NEAR(a.velocity_rig_mps.norm(), 6.0, 1e-9);
+  int pixels = 0;
+  double max_spread = 0.0;
+  for (std::size_t i = 0; i < f.scan.size(); ++i) {
+    if (f.truth->instance[i] != 7) continue;
+    ++pixels;
+    const Eigen::Vector3d p(f.scan.x_m[i], f.scan.y_m[i], f.scan.z_m[i]);
+    const Eigen::Vector3d expected = a.velocity_rig_mps + w.cross(p - c);
+    const Eigen::Vector3d got(f.truth->vx_mps[i], f.truth->vy_mps[i], f.truth->vz_mps[i]);
+    ASSERT_LT((got - expected).norm(), 1e-4) << "pixel " << i;
+    max_spread = std::max(max_spread, (got - a.velocity_rig_mps).norm());
+    EXPECT_EQ(f.truth->moving[i], 1);
+  }
+  EXPECT_EQ(pixels, a.pixels);
+  EXPECT_GT(max_spread, 0.3) << "points of a turning car move at different velocities";
+}
+
+TEST(LidarSimulator, HeadsAtDifferentMountsHaveTheirOwnOrigins) {
+  auto scene = std::make_shared<Scene>();
+  scene->add(wall_at_x(25.0));
+  scene->add_ground_plane(0.0, 200.0, 0.1f);
+  scene->build();
+  const core::RigModel rig = core::RigModel::paper_rig();
+  LidarSimulator sim(scene, make_static_trajectory(Eigen::Isometry3d::Identity()), noise_free(rig));
+  const core::Frame f = sim.simulate(0, 0.0);
+  for (std::size_t h = 0; h < 3; ++h) {
+    const Eigen::Vector3d o = rig.heads[h].T_rig_head.translation();
+    EXPECT_EQ(f.scan.heads[h].origin_m(), o);
+    int checked = 0;
+    for (int c = f.scan.heads[h].col_begin; c < f.scan.heads[h].col_end; c += 7) {
+      for (int r = 0; r < f.scan.rows; r += 5) {
+        const std::size_t i = f.scan.index(r, c);
+        if (!f.scan.valid[i]) continue;
+        const Eigen::Vector3d p(f.scan.x_m[i], f.scan.y_m[i], f.scan.z_m[i]);
+        ASSERT_NEAR((p - o).norm(), f.scan.range_m[i], 1e-3);
+        ++checked;
+      }
+    }
+    EXPECT_GT(checked, 100);
+  }
+  EXPECT_GT((rig.heads[0].T_rig_head.translation() - rig.heads[1].T_rig_head.translation()).norm(), 0.1);
+}
+
+TEST(LidarSimulator, NoiseMatchesTableISigmasWithinFivePercent) {
+  auto scene = std::make_shared<Scene>();
+  scene->add(wall_at_x(30.0));
+  scene->add_ground_plane(0.0, 200.0, 0.1f);
+  scene->build();
+  LidarSimulatorParams p;  // Table I defaults: 0.025 m, 0.031 m/s
+  p.seed = 11;
+  LidarSimulator sim(scene, make_constant_velocity_trajectory(Eigen::Isometry3d::Identity(), {5, 0, 0}), p);
+  double sr = 0, sr2 = 0, sv = 0, sv2 = 0;
+  std::size_t n = 0;
+  for (std::uint64_t k = 0; k < 3; ++k) {
+    const core::Frame f = sim.simulate(k, 0.1 * static_cast<double>(k));
+    for (std::size_t i = 0; i < f.scan.size(); ++i) {
+      if (!f.scan.valid[i]) continue;
+      const double dr = f.scan.range_m[i] - f.truth->range_m[i];
+      const double dv = f.scan.radial_velocity_mps[i] - f.truth->radial_velocity_mps[i];
+      sr += dr;
+      sr2 += dr * dr;
+      sv += dv;
+      sv2 += dv * dv;
+      ++n;
+    }
+  }
+  ASSERT_GT(n, 200000u);
+  const double nd = static_cast<double>(n);
+  EXPECT_NEAR(std::sqrt(sr2 / nd - (sr / nd) * (sr / nd)), 0.025, 0.05 * 0.025);
+  EXPECT_NEAR(std::sqrt(sv2 / nd - (sv / nd) * (sv / nd)), 0.031, 0.05 * 0.031);
+  EXPECT_NEAR(sr / nd, 0.0, 0.001);
+  EXPECT_NEAR(sv / nd, 0.0, 0.001);
+}
+
+TEST(LidarSimulator, SameSeedGivesIdenticalFramesWithOneOrTwoThreads) {
+  const auto make = [](int threads) {
+    auto scene = std::make_shared<Scene>();
+    scene->add(wall_at_x(35.0));
+    scene->add_ground_plane(0.0, 200.0, 0.1f);
+    SceneObject car;
+    car.actor_id = 3;
+    car.class_name = "car";
+    car.asset = box_asset({2.2f, 0.9f, 0.75f});
+    car.trajectory = make_constant_turn_rate_trajectory(at(18.0, -3.0, 0.75, 2.5), 7.0, 0.2);
+    scene->add(std::move(car));
+    scene->build();
+    LidarSimulatorParams p;
+    p.seed = 5;
+    p.num_threads = threads;
+    return LidarSimulator(scene, make_constant_velocity_trajectory(Eigen::Isometry3d::Identity(), {6, 0, 0}), p);
+  };
+  LidarSimulator one = make(1);
+  LidarSimulator two = make(2);
+  for (std::uint64_t k = 0; k < 2; ++k) {
+    const core::Frame a = one.simulate(k, 0.1 * static_cast<double>(k));
+    const core::Frame b = two.simulate(k, 0.1 * static_cast<double>(k));
+    const auto same = [](const std::vector<float>& x, const std::vector<float>& y) {
+      return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(float)) == 0;
+    };
+    EXPECT_TRUE(same(a.scan.x_m, b.scan.x_m));
+    EXPECT_TRUE(same(a.scan.range_m, b.scan.range_m));
+    EXPECT_TRUE(same(a.scan.radial_velocity_mps, b.scan.radial_velocity_mps));
+    EXPECT_TRUE(same(a.scan.intensity, b.scan.intensity));
+    EXPECT_TRUE(same(a.truth->vx_mps, b.truth->vx_mps));
+    EXPECT_EQ(a.truth->instance, b.truth->instance);
+  }
+}
+
+TEST(LidarSimulator, ReturnsBeyondMaxRangeAreDropped) {
+  auto scene = std::make_shared<Scene>();
+  scene->add(wall_at_x(60.0));
+  scene->build();
+  core::RigModel rig = small_rig();
+  rig.heads[0].max_range_m = 50.0;
+  LidarSimulator sim(scene, make_static_trajectory(Eigen::Isometry3d::Identity()), noise_free(rig));
+  EXPECT_EQ(sim.simulate(0, 0.0).scan.num_valid(), 0u);
+  rig.heads[0].max_range_m = 80.0;
+  LidarSimulator far(scene, make_static_trajectory(Eigen::Isometry3d::Identity()), noise_free(rig));
+  EXPECT_EQ(far.simulate(0, 0.0).scan.num_valid(), static_cast<std::size_t>(rig.rows() * rig.cols()));
+}
+
+}  // namespace
+}  // namespace fmcw::sim
