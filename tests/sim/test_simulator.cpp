@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "fmcw/sim/lidar_simulator.hpp"
+#include "fmcw/sim/mesh_asset.hpp"
 #include "fmcw/sim/scene.hpp"
 
 namespace fmcw::sim {
@@ -255,6 +256,116 @@ TEST(LidarSimulator, ReturnsBeyondMaxRangeAreDropped) {
   rig.heads[0].max_range_m = 80.0;
   LidarSimulator far(scene, make_static_trajectory(Eigen::Isometry3d::Identity()), noise_free(rig));
   EXPECT_EQ(far.simulate(0, 0.0).scan.num_valid(), static_cast<std::size_t>(rig.rows() * rig.cols()));
+}
+
+TEST(LidarSimulator, ArticulatedPartMovesWithItsOwnJoint) {
+  // A fixed post with an arm hinged at (0, 0, 1.6) in the body frame, swinging about +y.
+  MeshAsset asset = *box_asset({0.2f, 0.6f, 1.6f});
+  asset.parts[0].name = "post";
+  asset.parts[0].T_parent_part.translation() = Eigen::Vector3d(0, 0, 1.6);
+  MeshPart arm = box_asset({0.8f, 0.5f, 0.15f})->parts[0];
+  arm.name = "arm";
+  arm.parent = 0;
+  arm.T_parent_part = Eigen::Affine3d::Identity();
+  for (auto& v : arm.vertices) v.x() -= 1.0f;  // the arm reaches towards the sensor from its hinge
+  asset.parts.push_back(arm);
+  auto scene = std::make_shared<Scene>();
+  scene->add(wall_at_x(40.0));
+  SceneObject body;
+  body.actor_id = 4;
+  body.class_name = "robot";
+  body.asset = std::make_shared<const MeshAsset>(asset);
+  body.trajectory = make_static_trajectory(at(12.0, 0.0, 0.0));
+  JointMotion hinge;
+  hinge.axis = Eigen::Vector3d::UnitY();
+  hinge.amplitude_rad = 0.4;
+  hinge.frequency_hz = 0.5;
+  body.joints.emplace_back(1, hinge);
+  scene->add(std::move(body));
+  scene->build();
+  LidarSimulator sim(scene, make_static_trajectory(Eigen::Isometry3d::Identity()), noise_free(core::RigModel::paper_rig()));
+  const double t = 0.3;
+  const core::Frame f = sim.simulate(0, t);
+  // Hinge in the world: body at (12, 0, 0), part 0 at +1.6 m up; the arm turns about +y at
+  // rate amplitude * 2 pi f cos(2 pi f t).
+  const Eigen::Vector3d hinge_world(12.0, 0.0, 1.6);
+  const Eigen::Vector3d omega(0.0, hinge.rate_rps(t), 0.0);
+  int arm_pixels = 0, post_pixels = 0;
+  for (std::size_t i = 0; i < f.scan.size(); ++i) {
+    if (f.truth->instance[i] != 4) continue;
+    const Eigen::Vector3d p(f.scan.x_m[i], f.scan.y_m[i], f.scan.z_m[i]);
+    const Eigen::Vector3d v(f.truth->vx_mps[i], f.truth->vy_mps[i], f.truth->vz_mps[i]);
+    if (v.norm() < 1e-9) {
+      ++post_pixels;
+      continue;
+    }
+    ++arm_pixels;
+    ASSERT_LT((v - omega.cross(p - hinge_world)).norm(), 1e-4) << "pixel " << i;
+  }
+  EXPECT_GT(arm_pixels, 50);
+  EXPECT_GT(post_pixels, 50);
+}
+
+TEST(LidarSimulator, RollingWheelsTurnAboutTheirContactPoint) {
+  // The project's car at 10 m/s: a wheel spinning at v / r rolls without slipping, so its
+  // points turn about the line where the wheel touches the ground: speed = (v / r) times the
+  // distance to that line, from 0
+  // at the ground to 2v at the top, while the body moves at v.
+  const std::string assets = std::string(FMCW_SOURCE_DIR) + "/assets/";
+  auto car_asset = std::make_shared<const MeshAsset>(load_mesh_asset(assets + "car.gltf", {}, 0.3f));
+  auto scene = std::make_shared<Scene>();
+  scene->add(wall_at_x(60.0));
+  SceneObject car;
+  car.actor_id = 1;
+  car.class_name = "car";
+  car.asset = car_asset;
+  // Driving along -y on the rig's left, its right side (wheels) facing the sensor.
+  const Eigen::Isometry3d pose = at(8.0, 9.0, 0.0, -M_PI / 2);
+  car.trajectory = make_constant_velocity_trajectory(pose, {0.0, -10.0, 0.0});
+  double radius = 0.0;
+  std::vector<Eigen::Vector3d> contacts;
+  for (std::size_t p = 0; p < car_asset->parts.size(); ++p) {
+    const MeshPart& part = car_asset->parts[p];
+    if (part.name.rfind("wheel", 0) != 0) continue;
+    float zmin = 1e9f, zmax = -1e9f;
+    for (const auto& v : part.vertices) {
+      zmin = std::min(zmin, v.z());
+      zmax = std::max(zmax, v.z());
+    }
+    radius = 0.5 * (zmax - zmin);
+    car.wheels.emplace_back(static_cast<int>(p), radius);
+    const Eigen::Vector3d axle = pose * part.T_parent_part.translation();
+    contacts.push_back(axle - Eigen::Vector3d(0, 0, radius));
+  }
+  ASSERT_EQ(car.wheels.size(), 4u);
+  scene->add(std::move(car));
+  scene->build();
+  LidarSimulator sim(scene, make_static_trajectory(Eigen::Isometry3d::Identity()), noise_free(core::RigModel::paper_rig()));
+  const core::Frame f = sim.simulate(0, 0.0);
+  int wheel_pixels = 0, body_pixels = 0;
+  double fastest = 0.0;
+  for (std::size_t i = 0; i < f.scan.size(); ++i) {
+    if (f.truth->instance[i] != 1) continue;
+    const Eigen::Vector3d p(f.scan.x_m[i], f.scan.y_m[i], f.scan.z_m[i]);
+    const Eigen::Vector3d v(f.truth->vx_mps[i], f.truth->vy_mps[i], f.truth->vz_mps[i]);
+    if ((v - Eigen::Vector3d(0, -10, 0)).norm() < 1e-6) {
+      ++body_pixels;
+      continue;
+    }
+    ++wheel_pixels;
+    // Distance to the instantaneous axis: the line through the contact point along the axle.
+    const Eigen::Vector3d axle_dir = pose.linear() * Eigen::Vector3d::UnitY();
+    double nearest = 1e9;
+    for (const auto& c : contacts) {
+      const Eigen::Vector3d d = p - c;
+      nearest = std::min(nearest, (d - d.dot(axle_dir) * axle_dir).norm());
+    }
+    ASSERT_NEAR(v.norm(), 10.0 / radius * nearest, 1e-3) << "pixel " << i;
+    fastest = std::max(fastest, v.norm());
+  }
+  EXPECT_GT(wheel_pixels, 30);
+  EXPECT_GT(body_pixels, 300);
+  EXPECT_GT(fastest, 15.0) << "the top of a wheel moves at nearly 2v";
 }
 
 }  // namespace

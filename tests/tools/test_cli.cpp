@@ -136,4 +136,47 @@ TEST_F(Cli, BenchJsonNamesBothMethodsWithPointsPerSecond) {
   }
 }
 
+TEST_F(Cli, SimulateWritesACompleteDatasetIdenticalForAnyThreadCount) {
+  const std::string scenario = std::string(FMCW_SOURCE_DIR) + "/scenarios/intersection.yaml";
+  CliResult a = run("simulate " + scenario + " -o " + p("one") + " --frames 3 --threads 1 --seed 9");
+  ASSERT_EQ(a.code, 0) << a.output;
+  CliResult b = run("simulate " + scenario + " -o " + p("two") + " --frames 3 --threads 2 --seed 9");
+  ASSERT_EQ(b.code, 0) << b.output;
+  for (const char* f : {"dataset.yaml", "ego.csv", "objects.csv", "frames/000000.pcd", "frames/000002.pcd"}) {
+    ASSERT_TRUE(fs::exists(dir_ / "one" / f)) << f;
+    EXPECT_EQ(slurp(dir_ / "one" / f), slurp(dir_ / "two" / f)) << f;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "one" / "frames" / "000003.pcd"));
+  const std::string yaml = slurp(dir_ / "one" / "dataset.yaml");
+  EXPECT_NE(yaml.find("frames_written: 3"), std::string::npos);
+  EXPECT_NE(yaml.find("seed: 9"), std::string::npos);
+  // Another seed changes the noise.
+  ASSERT_EQ(run("simulate " + scenario + " -o " + p("other") + " --frames 1 --seed 10").code, 0);
+  EXPECT_NE(slurp(dir_ / "one" / "frames/000000.pcd"), slurp(dir_ / "other" / "frames/000000.pcd"));
+  // The dataset feeds straight into process.
+  CliResult r = run("process " + p("one") + " -o " + p("processed"));
+  EXPECT_EQ(r.code, 0) << r.output;
+}
+
+TEST_F(Cli, SimulateRejectsBadScenariosAndOccupiedFolders) {
+  std::ofstream(p("bad.yaml")) << "name: x\nframes: 2\nrig:\n  heads:\n    - {name: a, rate_hz: -10}\n";
+  CliResult r = run("simulate " + p("bad.yaml") + " -o " + p("out"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("bad.yaml:5: rig.heads[0]: head 'a': rate must be > 0 Hz, got -10"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "out")) << "nothing is written for a bad scenario";
+
+  std::ofstream(p("typo.yaml")) << "name: x\nframs: 2\n";
+  r = run("simulate " + p("typo.yaml") + " -o " + p("out"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("typo.yaml:2: unknown key 'frams'"), std::string::npos) << r.output;
+
+  fs::create_directories(dir_ / "full");
+  std::ofstream(dir_ / "full" / "keep.txt") << "x";
+  std::ofstream(p("ok.yaml")) << "frames: 1\n";
+  r = run("simulate " + p("ok.yaml") + " -o " + p("full"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("exists and is not empty"), std::string::npos) << r.output;
+}
+
 }  // namespace
