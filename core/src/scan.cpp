@@ -60,6 +60,8 @@ void Scan::validate_layout() const {
   check_size(radial_velocity_mps.size(), "v");
   check_size(intensity.size(), "intensity");
   check_size(valid.size(), "valid");
+  FMCW_CHECK_ARG(time_offset_s.empty() || time_offset_s.size() == n, "scan: field 't' has ", time_offset_s.size(),
+                 " values, expected 0 or rows*cols = ", n);
   FMCW_CHECK_ARG(!heads.empty() || n == 0, "scan: no heads describe the ", cols, " columns");
   int expected_begin = 0;
   for (std::size_t h = 0; h < heads.size(); ++h) {

@@ -284,7 +284,7 @@ void write_pcd(const std::string& path, const PcdCloud& cloud) {
 }
 
 const std::vector<std::string>& known_frame_fields() {
-  static const std::vector<std::string> names = {"x", "y", "z", "range", "v", "intensity", "gt_range", "gt_v",
+  static const std::vector<std::string> names = {"x", "y", "z", "range", "v", "intensity", "t", "gt_range", "gt_v",
                                                  "gt_vx", "gt_vy", "gt_vz", "instance", "moving", "label"};
   return names;
 }
@@ -356,6 +356,13 @@ core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source) {
   const std::vector<double>& v = cloud.find("v")->values;
   const PcdField* range = cloud.find("range");
   const PcdField* intensity = cloud.find("intensity");
+  if (const PcdField* t = cloud.find("t")) {
+    scan.time_offset_s.resize(scan.size());
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      FMCW_CHECK_ARG(std::isfinite(t->values[i]), source, ": point ", i, " has a NaN or Inf time offset 't'");
+      scan.time_offset_s[i] = static_cast<float>(t->values[i]);
+    }
+  }
   const char* gt_names[] = {"gt_range", "gt_v", "gt_vx", "gt_vy", "gt_vz", "instance", "moving"};
   int gt_present = 0;
   for (const char* g : gt_names) gt_present += cloud.find(g) ? 1 : 0;
@@ -456,6 +463,7 @@ PcdCloud pcd_from_frame(const core::Frame& frame, bool with_truth) {
   add_float("range", scan.range_m, true);
   add_float("v", scan.radial_velocity_mps, true);
   add_float("intensity", scan.intensity, true);
+  if (!scan.time_offset_s.empty()) add_float("t", scan.time_offset_s, false);
   if (with_truth) {
     FMCW_CHECK_ARG(frame.truth.has_value(), "write PCD: ground truth requested but the frame has none");
     const core::PixelGroundTruth& gt = *frame.truth;

@@ -63,7 +63,8 @@ DatasetSummary write_dataset(const LoadedScenario& loaded_in, const DatasetOptio
        << "complete: true\n"
        << "frames_written: " << summary.frames_written << "\n"
        << "frame_files: frames/%06d.pcd\n"
-       << "fields: [x, y, z, range, v, intensity, gt_range, gt_v, gt_vx, gt_vy, gt_vz, instance, moving]\n"
+       << "fields: [x, y, z, range, v, intensity" << (s.motion_distortion ? ", t" : "")
+       << ", gt_range, gt_v, gt_vx, gt_vy, gt_vz, instance, moving]\n"
        << "scenario:\n";
   std::istringstream resolved(scenario_to_yaml(s));
   for (std::string line; std::getline(resolved, line);) yaml << "  " << line << "\n";

@@ -294,6 +294,34 @@ LoadedScenario load_scenario(const std::string& path) {
   } else {
     m.get("measurement", 0.0);
   }
+  if (m.has("simulation")) {
+    const YamlValue sim = m.at("simulation");
+    YamlMap sm(sim);
+    s.motion_distortion = sm.get("motion_distortion", false);
+    s.time_slices = sm.get("time_slices", 0);
+    if (s.time_slices < 0) sm.at("time_slices").fail("time_slices must be >= 0 (0: one per column)");
+    s.min_range_m = sm.get("min_range_m", 0.3);
+    if (s.min_range_m < 0.0) sm.at("min_range_m").fail("min_range_m must be >= 0");
+    if (sm.has("beam_divergence")) {
+      const YamlValue bd = sm.at("beam_divergence");
+      YamlMap b(bd);
+      s.divergence.sub_rays = b.get("sub_rays", 19);
+      s.divergence.divergence_rad = b.get("divergence_deg", 0.1) * kDeg;
+      s.divergence.merge_range_m = b.get("merge_range_m", s.divergence.merge_range_m);
+      s.divergence.merge_velocity_mps = b.get("merge_velocity_mps", s.divergence.merge_velocity_mps);
+      b.finish();
+      try {
+        s.divergence.validate();
+      } catch (const std::invalid_argument& e) {
+        bd.fail(e.what());
+      }
+    } else {
+      sm.get("beam_divergence", 0.0);
+    }
+    sm.finish();
+  } else {
+    m.get("simulation", 0.0);
+  }
   s.moving_threshold_mps = m.get("moving_threshold_mps", 0.1);
   if (s.moving_threshold_mps < 0.0) m.at("moving_threshold_mps").fail("must be >= 0");
   if (m.has("materials")) {
@@ -415,6 +443,12 @@ std::string scenario_to_yaml(const Scenario& s) {
       << mp.wavelength_m << YAML::Key << "bandwidth_hz" << YAML::Value << mp.bandwidth_hz << YAML::Key
       << "chirp_period_s" << YAML::Value << mp.chirp_period_s << YAML::Key << "beat_frequency_sigma_hz" << YAML::Value
       << mp.beat_frequency_sigma_hz << YAML::EndMap;
+  out << YAML::Key << "simulation" << YAML::Value << YAML::BeginMap << YAML::Key << "motion_distortion" << YAML::Value
+      << s.motion_distortion << YAML::Key << "time_slices" << YAML::Value << s.time_slices << YAML::Key << "min_range_m"
+      << YAML::Value << s.min_range_m << YAML::Key << "beam_divergence" << YAML::Value << YAML::BeginMap << YAML::Key
+      << "sub_rays" << YAML::Value << s.divergence.sub_rays << YAML::Key << "divergence_deg" << YAML::Value
+      << s.divergence.divergence_rad / kDeg << YAML::Key << "merge_range_m" << YAML::Value << s.divergence.merge_range_m
+      << YAML::Key << "merge_velocity_mps" << YAML::Value << s.divergence.merge_velocity_mps << YAML::EndMap << YAML::EndMap;
   out << YAML::Key << "moving_threshold_mps" << YAML::Value << s.moving_threshold_mps;
   out << YAML::Key << "materials" << YAML::Value << s.materials_file;
   out << YAML::Key << "default_reflectivity" << YAML::Value << s.default_reflectivity;
@@ -497,6 +531,10 @@ SimulationSetup build_simulation(const LoadedScenario& loaded, int num_threads) 
   setup.params.rig = s.rig;
   setup.params.measurement = s.measurement;
   setup.params.moving_threshold_mps = s.moving_threshold_mps;
+  setup.params.motion_distortion = s.motion_distortion;
+  setup.params.time_slices = s.time_slices;
+  setup.params.min_range_m = s.min_range_m;
+  setup.params.divergence = s.divergence;
   setup.params.seed = s.seed;
   setup.params.num_threads = num_threads;
   return setup;

@@ -50,8 +50,8 @@ void check_pose(const Eigen::Isometry3d& T, const char* what) {
   const double error = (R.transpose() * R - Eigen::Matrix3d::Identity()).norm();
   const double det = R.determinant();
   FMCW_CHECK_ARG(error < kRotationTolerance && det > 0.0, what,
-                 ": pose rotation is not a proper rotation (|R^T R - I| = ", error,
-                 ", det = ", det, ")");
+                 ": pose rotation is not a proper rotation (|R^T R - I| = ", error, ", det = ", det,
+                 ")");
 }
 
 // sin(x) / x without the 0 / 0 at x = 0.
@@ -331,11 +331,11 @@ class WaypointTrajectory final : public Trajectory {
   // Samples u evenly per span and accumulates the arc length with 5-point Gauss-Legendre, whose
   // error on the smooth |p'(u)| of one sub-interval is negligible.
   void build_arc_table() {
-    static constexpr std::array<double, 5> kNodes = {
-        -0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831, 0.9061798459386640};
-    static constexpr std::array<double, 5> kWeights = {
-        0.2369268850561891, 0.4786286704993665, 0.5688888888888889, 0.4786286704993665,
-        0.2369268850561891};
+    static constexpr std::array<double, 5> kNodes = {-0.9061798459386640, -0.5384693101056831, 0.0,
+                                                     0.5384693101056831, 0.9061798459386640};
+    static constexpr std::array<double, 5> kWeights = {0.2369268850561891, 0.4786286704993665,
+                                                       0.5688888888888889, 0.4786286704993665,
+                                                       0.2369268850561891};
 
     const std::size_t count = spans_.size() * kSamplesPerSpan + 1;
     sample_s_.reserve(count);
@@ -365,8 +365,8 @@ class WaypointTrajectory final : public Trajectory {
       for (int j = 0; j <= kChecksPerSpan; ++j) {
         const double d = span.chord * j / kChecksPerSpan;
         const Eigen::Vector3d tangent = span.tangent(d);
-        FMCW_CHECK_ARG(tangent.head<2>().norm() >= kMinHorizontalTangent,
-                       "waypoint path: near ", to_text(span.position(d)),
+        FMCW_CHECK_ARG(tangent.head<2>().norm() >= kMinHorizontalTangent, "waypoint path: near ",
+                       to_text(span.position(d)),
                        " the curve through the points is (nearly) vertical or doubles back on "
                        "itself, so the heading is undefined; add or move waypoints");
       }
@@ -422,8 +422,8 @@ class WaypointTrajectory final : public Trajectory {
     const double hh = h * h;
     const double u = h0 * a.u + h1 * h * a.du_ds + h2 * hh * a.d2u_ds2 + h3 * b.u +
                      h4 * h * b.du_ds + h5 * hh * b.d2u_ds2;
-    const double du_ds = g0 * (a.u - b.u) / h + g1 * a.du_ds + g2 * h * a.d2u_ds2 +
-                         g4 * b.du_ds + g5 * h * b.d2u_ds2;
+    const double du_ds = g0 * (a.u - b.u) / h + g1 * a.du_ds + g2 * h * a.d2u_ds2 + g4 * b.du_ds +
+                         g5 * h * b.d2u_ds2;
     return {k, u, du_ds};
   }
 
@@ -449,22 +449,23 @@ void check_waypoint_path(const WaypointPath& path) {
   const std::vector<Eigen::Vector3d>& points = path.points_m;
   const std::vector<double>& speeds = path.speeds_mps;
   FMCW_CHECK_ARG(points.size() >= 2, "waypoint path: need at least 2 points, got ", points.size());
-  FMCW_CHECK_ARG(std::isfinite(path.start_time_s),
-                 "waypoint path: start time must be finite, got ", path.start_time_s, " s");
+  FMCW_CHECK_ARG(std::isfinite(path.start_time_s), "waypoint path: start time must be finite, got ",
+                 path.start_time_s, " s");
   for (std::size_t i = 0; i < points.size(); ++i) {
-    FMCW_CHECK_ARG(points[i].allFinite(), "waypoint path: point ", i, " is not finite: ",
-                   to_text(points[i]));
+    FMCW_CHECK_ARG(points[i].allFinite(), "waypoint path: point ", i,
+                   " is not finite: ", to_text(points[i]));
   }
   for (std::size_t i = 0; i + 1 < points.size(); ++i) {
-    FMCW_CHECK_ARG((points[i + 1] - points[i]).norm() > kMinPointSpacing_m, "waypoint path: points ",
-                   i, " and ", i + 1, " coincide at ", to_text(points[i]));
+    FMCW_CHECK_ARG((points[i + 1] - points[i]).norm() > kMinPointSpacing_m,
+                   "waypoint path: points ", i, " and ", i + 1, " coincide at ",
+                   to_text(points[i]));
   }
-  FMCW_CHECK_ARG(speeds.size() == 1 || speeds.size() == points.size(), "waypoint path: ",
-                 speeds.size(), " speeds for ", points.size(),
+  FMCW_CHECK_ARG(speeds.size() == 1 || speeds.size() == points.size(),
+                 "waypoint path: ", speeds.size(), " speeds for ", points.size(),
                  " points; give one speed per point or a single speed for all");
   for (std::size_t i = 0; i < speeds.size(); ++i) {
-    FMCW_CHECK_ARG(std::isfinite(speeds[i]) && speeds[i] >= 0.0, "waypoint path: speed ", i,
-                   " is ", speeds[i], " m/s; speeds must be finite and >= 0");
+    FMCW_CHECK_ARG(std::isfinite(speeds[i]) && speeds[i] >= 0.0, "waypoint path: speed ", i, " is ",
+                   speeds[i], " m/s; speeds must be finite and >= 0");
   }
   if (speeds.size() == 1) {
     FMCW_CHECK_ARG(speeds.front() > 0.0,
@@ -472,7 +473,8 @@ void check_waypoint_path(const WaypointPath& path) {
   }
   for (std::size_t i = 0; i + 1 < speeds.size(); ++i) {
     FMCW_CHECK_ARG(speeds[i] > 0.0 || speeds[i + 1] > 0.0, "waypoint path: speeds at points ", i,
-                   " and ", i + 1, " are both 0 m/s, so the body could never get from one to the other");
+                   " and ", i + 1,
+                   " are both 0 m/s, so the body could never get from one to the other");
   }
 }
 
@@ -510,8 +512,8 @@ std::unique_ptr<Trajectory> make_static_trajectory(const Eigen::Isometry3d& T_wo
   return std::make_unique<StaticTrajectory>(T_world_body);
 }
 
-std::unique_ptr<Trajectory> make_constant_velocity_trajectory(const Eigen::Isometry3d& T_world_body_at_0,
-                                                              const Eigen::Vector3d& velocity_world_mps) {
+std::unique_ptr<Trajectory> make_constant_velocity_trajectory(
+    const Eigen::Isometry3d& T_world_body_at_0, const Eigen::Vector3d& velocity_world_mps) {
   check_pose(T_world_body_at_0, "constant velocity trajectory");
   FMCW_CHECK_ARG(velocity_world_mps.allFinite(),
                  "constant velocity trajectory: velocity must be finite, got ",
@@ -519,8 +521,8 @@ std::unique_ptr<Trajectory> make_constant_velocity_trajectory(const Eigen::Isome
   return std::make_unique<ConstantVelocityTrajectory>(T_world_body_at_0, velocity_world_mps);
 }
 
-std::unique_ptr<Trajectory> make_constant_turn_rate_trajectory(const Eigen::Isometry3d& T_world_body_at_0,
-                                                               double speed_mps, double yaw_rate_rps) {
+std::unique_ptr<Trajectory> make_constant_turn_rate_trajectory(
+    const Eigen::Isometry3d& T_world_body_at_0, double speed_mps, double yaw_rate_rps) {
   check_pose(T_world_body_at_0, "constant turn rate trajectory");
   FMCW_CHECK_ARG(std::isfinite(speed_mps),
                  "constant turn rate trajectory: speed must be finite, got ", speed_mps, " m/s");

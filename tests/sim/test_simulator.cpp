@@ -368,5 +368,57 @@ TEST(LidarSimulator, RollingWheelsTurnAboutTheirContactPoint) {
   EXPECT_GT(fastest, 15.0) << "the top of a wheel moves at nearly 2v";
 }
 
+TEST(LidarSimulator, MotionDistortionEvaluatesEgoAndActorsAtEachBeamsTime) {
+  // One head at the rig origin; the ego drives at 20 m/s towards a wall at x = 30, and a box
+  // 12 m ahead recedes at 10 m/s. Each column fires (c + 0.5) / 100 of a 0.1 s period late.
+  core::RigModel rig;
+  core::HeadModel head;
+  head.fov_horizontal_rad = 20.0 * M_PI / 180.0;
+  head.fov_vertical_rad = 4.0 * M_PI / 180.0;
+  head.resolution_horizontal_rad = head.resolution_vertical_rad = 0.2 * M_PI / 180.0;
+  head.T_rig_head = at(0, 0, 1.0);
+  rig.heads.push_back(head);
+  auto scene = std::make_shared<Scene>();
+  scene->add(wall_at_x(30.0));
+  SceneObject box;
+  box.actor_id = 2;
+  box.class_name = "box";
+  box.asset = box_asset({0.5f, 0.6f, 0.5f});
+  box.trajectory = make_constant_velocity_trajectory(at(12.5, 0.0, 1.0), {10.0, 0.0, 0.0});
+  scene->add(std::move(box));
+  scene->build();
+  LidarSimulatorParams params = noise_free(rig);
+  params.motion_distortion = true;
+  LidarSimulator sim(scene, make_constant_velocity_trajectory(Eigen::Isometry3d::Identity(), {20.0, 0.0, 0.0}), params);
+  const core::Frame f = sim.simulate(0, 0.0);
+  ASSERT_EQ(f.scan.time_offset_s.size(), f.scan.size());
+  int wall = 0, actor = 0;
+  for (int r = 0; r < f.scan.rows; ++r) {
+    for (int c = 0; c < f.scan.cols; ++c) {
+      const std::size_t i = f.scan.index(r, c);
+      const double tau = (c + 0.5) / f.scan.cols / 10.0;
+      ASSERT_NEAR(f.scan.time_offset_s[i], tau, 1e-7);
+      if (!f.scan.valid[i]) continue;
+      // In the rig frame of the beam's instant: the wall is 20 tau closer, the box's front face
+      // (x = 12 at t = 0) is 10 tau further and the rig 20 tau closer.
+      const double expected = f.truth->instance[i] == 2 ? 12.0 + 10.0 * tau - 20.0 * tau : 30.0 - 20.0 * tau;
+      ASSERT_NEAR(f.scan.x_m[i], expected, 1e-4) << "row " << r << " col " << c;
+      (f.truth->instance[i] == 2 ? actor : wall)++;
+    }
+  }
+  EXPECT_GT(actor, 100);
+  EXPECT_GT(wall, 1000);
+  // Without distortion every beam sees the frame's instant.
+  params.motion_distortion = false;
+  LidarSimulator still(scene, make_constant_velocity_trajectory(Eigen::Isometry3d::Identity(), {20.0, 0.0, 0.0}), params);
+  const core::Frame g = still.simulate(0, 0.0);
+  EXPECT_TRUE(g.scan.time_offset_s.empty());
+  for (std::size_t i = 0; i < g.scan.size(); ++i) {
+    if (g.scan.valid[i] && g.truth->instance[i] == 0) {
+      ASSERT_NEAR(g.scan.x_m[i], 30.0, 1e-4);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace fmcw::sim

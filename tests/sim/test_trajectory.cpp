@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fmcw/sim/trajectory.hpp"
@@ -37,7 +37,8 @@ double heading_of(const MotionState& state) {
 }
 
 bool at_rest(const MotionState& state) {
-  return state.twist.linear_mps.squaredNorm() == 0.0 && state.twist.angular_rps.squaredNorm() == 0.0;
+  return state.twist.linear_mps.squaredNorm() == 0.0 &&
+         state.twist.angular_rps.squaredNorm() == 0.0;
 }
 
 // Central differences of the pose over [t - h, t + h]: the position's derivative and the angular
@@ -46,9 +47,9 @@ Twist finite_difference_twist(const Trajectory& trajectory, double t, double h) 
   const MotionState plus = trajectory.state(t + h);
   const MotionState minus = trajectory.state(t - h);
   Twist out;
-  out.linear_mps =
-      (plus.T_world_body.translation() - minus.T_world_body.translation()) / (2.0 * h);
-  const Eigen::AngleAxisd delta(plus.T_world_body.linear() * minus.T_world_body.linear().transpose());
+  out.linear_mps = (plus.T_world_body.translation() - minus.T_world_body.translation()) / (2.0 * h);
+  const Eigen::AngleAxisd delta(plus.T_world_body.linear() *
+                                minus.T_world_body.linear().transpose());
   out.angular_rps = delta.axis() * delta.angle() / (2.0 * h);
   return out;
 }
@@ -77,7 +78,8 @@ void expect_twist_consistent(const Trajectory& trajectory, double t0, double t1,
         (trajectory.state(t + kStep).T_world_body * point_body -
          trajectory.state(t - kStep).T_world_body * point_body) /
         (2.0 * kStep);
-    EXPECT_LT((fd_point_velocity - point_velocity).norm(), tolerance * (scale + 5.0)) << "t = " << t;
+    EXPECT_LT((fd_point_velocity - point_velocity).norm(), tolerance * (scale + 5.0))
+        << "t = " << t;
     ++checked;
   }
   EXPECT_EQ(checked, count);
@@ -180,7 +182,9 @@ TEST(ConstantVelocityTrajectory, MovesLinearlyWithFixedOrientation) {
 
 TEST(ConstantVelocityTrajectory, RejectsNonFiniteVelocity) {
   expect_invalid_argument(
-      [] { make_constant_velocity_trajectory(Eigen::Isometry3d::Identity(), {1.0, kNaN, 0.0}); },
+      [] {
+        make_constant_velocity_trajectory(Eigen::Isometry3d::Identity(), {1.0, kNaN, 0.0});
+      },
       "velocity must be finite");
 }
 
@@ -233,8 +237,9 @@ TEST(ConstantTurnRateTrajectory, NegativeYawRateTurnsRightAndNegativeSpeedRevers
   EXPECT_LT(right->state(1.0).T_world_body.translation().y(), -0.1);
   EXPECT_LT(heading_of(right->state(1.0)), 0.0);
   const auto reverse = make_constant_turn_rate_trajectory(Eigen::Isometry3d::Identity(), -2.0, 0.0);
-  EXPECT_LT((reverse->state(3.0).T_world_body.translation() - Eigen::Vector3d(-6.0, 0.0, 0.0)).norm(),
-            1e-12);
+  EXPECT_LT(
+      (reverse->state(3.0).T_world_body.translation() - Eigen::Vector3d(-6.0, 0.0, 0.0)).norm(),
+      1e-12);
 }
 
 TEST(ConstantTurnRateTrajectory, ZeroAndTinyYawRatesStayAccurate) {
@@ -256,8 +261,10 @@ TEST(ConstantTurnRateTrajectory, ZeroAndTinyYawRatesStayAccurate) {
     const double t = -20.0 + k;
     const long double psi = psi0 + static_cast<long double>(yaw_rate) * t;
     const long double r = static_cast<long double>(speed) / yaw_rate;
-    const double x = static_cast<double>(3.0L + r * (std::sin(psi) - std::sin(static_cast<long double>(psi0))));
-    const double y = static_cast<double>(-1.0L - r * (std::cos(psi) - std::cos(static_cast<long double>(psi0))));
+    const double x =
+        static_cast<double>(3.0L + r * (std::sin(psi) - std::sin(static_cast<long double>(psi0))));
+    const double y =
+        static_cast<double>(-1.0L - r * (std::cos(psi) - std::cos(static_cast<long double>(psi0))));
     const Eigen::Vector3d p = slow->state(t).T_world_body.translation();
     EXPECT_NEAR(p.x(), x, 1e-9) << "t = " << t;
     EXPECT_NEAR(p.y(), y, 1e-9) << "t = " << t;
@@ -311,7 +318,8 @@ TEST(WaypointTrajectory, StraightLineAtConstantSpeedIsExact) {
     const double t = 4.0 * k / 40.0;
     const MotionState state = trajectory->state(t);
     EXPECT_LT((state.T_world_body.translation() - (path.points_m[0] + 2.5 * t * direction)).norm(),
-              1e-9) << "t = " << t;
+              1e-9)
+        << "t = " << t;
     EXPECT_LT((state.twist.linear_mps - 2.5 * direction).norm(), 1e-9);
     EXPECT_NEAR(heading_of(state), std::atan2(0.8, 0.6), 1e-12);
     EXPECT_NEAR(state.twist.angular_rps.norm(), 0.0, 1e-12);
@@ -340,8 +348,8 @@ WaypointPath quarter_turn(double speed, double mirror) {
   path.points_m = {{-10.0, 0.0, 0.0}, {-5.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {5.0, 0.0, 0.0}};
   for (int k = 0; k <= 6; ++k) {
     const double angle = rad(15.0 * k);
-    path.points_m.emplace_back(10.0 + 10.0 * std::sin(angle), mirror * (10.0 - 10.0 * std::cos(angle)),
-                               0.0);
+    path.points_m.emplace_back(10.0 + 10.0 * std::sin(angle),
+                               mirror * (10.0 - 10.0 * std::cos(angle)), 0.0);
   }
   for (double y : {15.0, 20.0, 25.0, 30.0}) path.points_m.emplace_back(20.0, mirror * y, 0.0);
   path.speeds_mps = {speed};
@@ -359,8 +367,8 @@ TEST(WaypointTrajectory, NinetyDegreeTurnHeadingAndYawRate) {
     EXPECT_NEAR(deg(heading_of(trajectory->state(-1.0))), 0.0, 0.5);
     EXPECT_NEAR(deg(heading_of(trajectory->state(end + 1.0))), mirror * 90.0, 0.5);
 
-    const Eigen::Vector3d middle(10.0 + radius * std::sqrt(0.5), mirror * (10.0 - radius * std::sqrt(0.5)),
-                                 0.0);
+    const Eigen::Vector3d middle(10.0 + radius * std::sqrt(0.5),
+                                 mirror * (10.0 - radius * std::sqrt(0.5)), 0.0);
     const double t_middle = closest_approach_time(*trajectory, middle, 0.0, end);
     const MotionState state = trajectory->state(t_middle);
     EXPECT_LT((state.T_world_body.translation() - middle).norm(), 1e-6);
@@ -386,8 +394,8 @@ TEST(WaypointTrajectory, NinetyDegreeTurnHeadingAndYawRate) {
 
 TEST(WaypointTrajectory, ConstantSpeedOnCurvedPathAndTravelTimeMatchesArcLength) {
   WaypointPath path;
-  path.points_m = {{0.0, 0.0, 0.0}, {12.0, 3.0, 0.5}, {20.0, 15.0, 1.5}, {14.0, 26.0, 1.0},
-                   {25.0, 35.0, 0.0}};
+  path.points_m = {
+      {0.0, 0.0, 0.0}, {12.0, 3.0, 0.5}, {20.0, 15.0, 1.5}, {14.0, 26.0, 1.0}, {25.0, 35.0, 0.0}};
   const double speed = 7.0;
   path.speeds_mps = {speed};
   const auto trajectory = make_waypoint_trajectory(path);
@@ -422,7 +430,8 @@ TEST(WaypointTrajectory, PassesEveryWaypointAtItsSpeed) {
   for (std::size_t i = 1; i + 1 < path.points_m.size(); ++i) {
     const double t = closest_approach_time(*trajectory, path.points_m[i], previous_time, end);
     const MotionState state = trajectory->state(t);
-    EXPECT_LT((state.T_world_body.translation() - path.points_m[i]).norm(), 1e-6) << "waypoint " << i;
+    EXPECT_LT((state.T_world_body.translation() - path.points_m[i]).norm(), 1e-6)
+        << "waypoint " << i;
     EXPECT_NEAR(state.twist.linear_mps.norm(), path.speeds_mps[i], 1e-5) << "waypoint " << i;
     EXPECT_GT(t, previous_time);
     previous_time = t;
@@ -453,8 +462,11 @@ LinePath uneven_line(const std::vector<double>& speeds) {
 
 double profile_speed(const LinePath& line, double s) {
   const std::vector<double>& st = line.stations_m;
-  const std::size_t i = std::min<std::size_t>(
-      static_cast<std::size_t>(std::upper_bound(st.begin(), st.end(), s) - st.begin()), st.size() - 1) - 1;
+  const std::size_t i =
+      std::min<std::size_t>(
+          static_cast<std::size_t>(std::upper_bound(st.begin(), st.end(), s) - st.begin()),
+          st.size() - 1) -
+      1;
   const double v0 = line.path.speeds_mps[i];
   const double v1 = line.path.speeds_mps[i + 1];
   const double x = (s - st[i]) / (st[i + 1] - st[i]);
@@ -477,9 +489,9 @@ TEST(WaypointTrajectory, SpeedIsLinearInArcLengthBetweenWaypoints) {
 }
 
 TEST(WaypointTrajectory, TravelTimeIsTheIntegralOfInverseSpeed) {
-  for (const std::vector<double>& speeds :
-       {std::vector<double>{1.0, 3.0, 3.0, 0.5, 2.0}, std::vector<double>{4.0, 4.0 + 1e-9, 2.0, 6.0, 6.0},
-        std::vector<double>{0.0, 3.0, 0.0, 2.0, 0.0}}) {
+  for (const std::vector<double>& speeds : {std::vector<double>{1.0, 3.0, 3.0, 0.5, 2.0},
+                                            std::vector<double>{4.0, 4.0 + 1e-9, 2.0, 6.0, 6.0},
+                                            std::vector<double>{0.0, 3.0, 0.0, 2.0, 0.0}}) {
     const LinePath line = uneven_line(speeds);
     // Composite Simpson per span; near a rest end 1 / v ~ 1 / sqrt(s) is integrable but not
     // smooth, so substitute s = L x^2 (from rest) or s = L (1 - x^2) (to rest) first.
@@ -490,9 +502,11 @@ TEST(WaypointTrajectory, TravelTimeIsTheIntegralOfInverseSpeed) {
       const double v0 = speeds[i];
       const double v1 = speeds[i + 1];
       const auto integrand = [&](double x) {
-        if (v0 == 0.0) return 2.0 * length * x / std::max(profile_speed(line, s0 + length * x * x), 1e-300);
+        if (v0 == 0.0)
+          return 2.0 * length * x / std::max(profile_speed(line, s0 + length * x * x), 1e-300);
         if (v1 == 0.0) {
-          return 2.0 * length * x / std::max(profile_speed(line, s0 + length * (1.0 - x * x)), 1e-300);
+          return 2.0 * length * x /
+                 std::max(profile_speed(line, s0 + length * (1.0 - x * x)), 1e-300);
         }
         return length / profile_speed(line, s0 + length * x);
       };
@@ -582,8 +596,9 @@ TEST(WaypointTrajectory, WaitsBeforeStartAndRestsAfterEnd) {
     EXPECT_TRUE(at_rest(state));
     EXPECT_NEAR(heading_of(state), final_heading, 1e-6);
   }
-  EXPECT_LT((trajectory->state(end - 1e-9).T_world_body.translation() - path.points_m.back()).norm(),
-            1e-7);
+  EXPECT_LT(
+      (trajectory->state(end - 1e-9).T_world_body.translation() - path.points_m.back()).norm(),
+      1e-7);
 }
 
 TEST(WaypointTrajectory, TwistMatchesFiniteDifferences) {
@@ -605,12 +620,13 @@ TEST(WaypointTrajectory, TwistMatchesFiniteDifferences) {
 
 TEST(WaypointTrajectory, ClosedLoopMayRevisitTheFirstPoint) {
   WaypointPath path;
-  path.points_m = {{0.0, 0.0, 0.0}, {20.0, 0.0, 0.0}, {25.0, 10.0, 0.0}, {10.0, 15.0, 0.0},
-                   {-5.0, 8.0, 0.0}, {0.0, 0.0, 0.0}, {20.0, 0.0, 0.0}};
+  path.points_m = {{0.0, 0.0, 0.0},  {20.0, 0.0, 0.0}, {25.0, 10.0, 0.0}, {10.0, 15.0, 0.0},
+                   {-5.0, 8.0, 0.0}, {0.0, 0.0, 0.0},  {20.0, 0.0, 0.0}};
   path.speeds_mps = {8.0};
   const auto trajectory = make_waypoint_trajectory(path);
   const double end = arrival_time(*trajectory, 1.0, 1000.0);
-  EXPECT_LT((trajectory->state(end).T_world_body.translation() - path.points_m.back()).norm(), 1e-9);
+  EXPECT_LT((trajectory->state(end).T_world_body.translation() - path.points_m.back()).norm(),
+            1e-9);
   expect_twist_consistent(*trajectory, 1e-3, end - 1e-3, 200, 1e-6);
 }
 
@@ -624,24 +640,51 @@ TEST(WaypointTrajectory, RejectsBadPaths) {
   expect_invalid_argument([&] { make({}, {1.0}); }, "at least 2 points, got 0");
   expect_invalid_argument([&] { make({{1.0, 2.0, 3.0}}, {1.0}); }, "at least 2 points, got 1");
   expect_invalid_argument(
-      [&] { make({{0.0, 0.0, 0.0}, {5.0, 0.0, 0.0}, {1.0, 2.0, 0.0}, {1.0, 2.0, 0.0}}, {1.0}); },
+      [&] {
+        make({{0.0, 0.0, 0.0}, {5.0, 0.0, 0.0}, {1.0, 2.0, 0.0}, {1.0, 2.0, 0.0}}, {1.0});
+      },
       "points 2 and 3 coincide at (1, 2, 0)");
-  expect_invalid_argument([&] { make({{0.0, 0.0, 0.0}, {5.0, 0.0, 0.0}, {9.0, 1.0, 0.0}}, {1.0, 2.0}); },
-                          "2 speeds for 3 points");
-  expect_invalid_argument([&] { make({{0.0, 0.0, 0.0}, {5.0, 0.0, 0.0}}, {}); }, "0 speeds for 2 points");
-  expect_invalid_argument([&] { make({{0.0, 0.0, 0.0}, {5.0, 0.0, 0.0}}, {1.0, -0.5}); },
-                          "speed 1 is -0.5 m/s");
-  expect_invalid_argument([&] { make({{0.0, 0.0, 0.0}, {5.0, 0.0, 0.0}}, {kNaN}); }, "speed 0 is nan");
-  expect_invalid_argument([&] { make({{0.0, 0.0, 0.0}, {5.0, kNaN, 0.0}}, {1.0}); },
-                          "point 1 is not finite");
-  expect_invalid_argument([&] { make({{0.0, 0.0, 0.0}, {5.0, 0.0, 0.0}}, {0.0}); },
-                          "single speed is 0");
   expect_invalid_argument(
-      [&] { make({{0.0, 0.0, 0.0}, {5.0, 0.0, 0.0}, {9.0, 1.0, 0.0}}, {1.0, 0.0, 0.0}); },
+      [&] {
+        make({{0.0, 0.0, 0.0}, {5.0, 0.0, 0.0}, {9.0, 1.0, 0.0}}, {1.0, 2.0});
+      },
+      "2 speeds for 3 points");
+  expect_invalid_argument(
+      [&] {
+        make({{0.0, 0.0, 0.0}, {5.0, 0.0, 0.0}}, {});
+      },
+      "0 speeds for 2 points");
+  expect_invalid_argument(
+      [&] {
+        make({{0.0, 0.0, 0.0}, {5.0, 0.0, 0.0}}, {1.0, -0.5});
+      },
+      "speed 1 is -0.5 m/s");
+  expect_invalid_argument(
+      [&] {
+        make({{0.0, 0.0, 0.0}, {5.0, 0.0, 0.0}}, {kNaN});
+      },
+      "speed 0 is nan");
+  expect_invalid_argument(
+      [&] {
+        make({{0.0, 0.0, 0.0}, {5.0, kNaN, 0.0}}, {1.0});
+      },
+      "point 1 is not finite");
+  expect_invalid_argument(
+      [&] {
+        make({{0.0, 0.0, 0.0}, {5.0, 0.0, 0.0}}, {0.0});
+      },
+      "single speed is 0");
+  expect_invalid_argument(
+      [&] {
+        make({{0.0, 0.0, 0.0}, {5.0, 0.0, 0.0}, {9.0, 1.0, 0.0}}, {1.0, 0.0, 0.0});
+      },
       "speeds at points 1 and 2 are both 0");
   expect_invalid_argument([&] { make({{0.0, 0.0, 0.0}, {0.0, 0.0, 5.0}}, {1.0}); }, "vertical");
-  expect_invalid_argument([&] { make({{0.0, 0.0, 0.0}, {10.0, 0.0, 0.0}, {0.0, 0.0, 0.0}}, {1.0}); },
-                          "doubles back");
+  expect_invalid_argument(
+      [&] {
+        make({{0.0, 0.0, 0.0}, {10.0, 0.0, 0.0}, {0.0, 0.0, 0.0}}, {1.0});
+      },
+      "doubles back");
 
   WaypointPath late;
   late.points_m = {{0.0, 0.0, 0.0}, {5.0, 0.0, 0.0}};
@@ -668,7 +711,8 @@ TEST(JointMotion, AngleAndRateFollowTheFormula) {
     EXPECT_NEAR(joint.angle_rad(t), 0.2 + 0.5 * std::sin(arg) - 0.7 * t, 1e-14);
     EXPECT_NEAR(joint.rate_rps(t), 0.5 * 2.0 * kPi * 1.5 * std::cos(arg) - 0.7, 1e-13);
     const double h = 1e-5;
-    EXPECT_NEAR(joint.rate_rps(t), (joint.angle_rad(t + h) - joint.angle_rad(t - h)) / (2.0 * h), 1e-8);
+    EXPECT_NEAR(joint.rate_rps(t), (joint.angle_rad(t + h) - joint.angle_rad(t - h)) / (2.0 * h),
+                1e-8);
   }
   JointMotion wheel;
   wheel.spin_rate_rps = 31.25;  // 10 m/s on a 0.32 m wheel
@@ -747,10 +791,9 @@ std::vector<double> cycle_times(const std::map<std::string, JointMotion>& joints
 TEST(PedestrianGait, LegsInAntiphaseAndEachArmOppositeItsLeg) {
   const auto joints = gait(1.3);
   const double half_period = 0.5 / joints.at("upper_leg_l").frequency_hz;
-  for (const auto& [left, right] : {std::pair{"upper_leg_l", "upper_leg_r"},
-                                    std::pair{"lower_leg_l", "lower_leg_r"},
-                                    std::pair{"upper_arm_l", "upper_arm_r"},
-                                    std::pair{"lower_arm_l", "lower_arm_r"}}) {
+  for (const auto& [left, right] :
+       {std::pair{"upper_leg_l", "upper_leg_r"}, std::pair{"lower_leg_l", "lower_leg_r"},
+        std::pair{"upper_arm_l", "upper_arm_r"}, std::pair{"lower_arm_l", "lower_arm_r"}}) {
     for (double t : cycle_times(joints)) {
       EXPECT_NEAR(joints.at(left).angle_rad(t), joints.at(right).angle_rad(t + half_period), 1e-12);
       EXPECT_NEAR(joints.at(left).angle_rad(t) - joints.at(left).offset_rad,
@@ -758,8 +801,8 @@ TEST(PedestrianGait, LegsInAntiphaseAndEachArmOppositeItsLeg) {
     }
   }
   // Correlation of the swings over whole cycles: -1 for an arm against its own leg.
-  for (const auto& [arm, leg] : {std::pair{"upper_arm_l", "upper_leg_l"},
-                                 std::pair{"upper_arm_r", "upper_leg_r"}}) {
+  for (const auto& [arm, leg] :
+       {std::pair{"upper_arm_l", "upper_leg_l"}, std::pair{"upper_arm_r", "upper_leg_r"}}) {
     double cross = 0.0, arm_sq = 0.0, leg_sq = 0.0;
     for (double t : cycle_times(joints)) {
       const double a = joints.at(arm).angle_rad(t) - joints.at(arm).offset_rad;

@@ -33,6 +33,9 @@ struct Scan {
   std::vector<float> radial_velocity_mps; ///< Doppler velocity [m/s]
   std::vector<float> intensity;           ///< reflected intensity [arbitrary, >= 0]
   std::vector<std::uint8_t> valid;        ///< 1 where the beam returned
+  /// Optional: each beam's time after stamp_s [s] for sweeping sensors; empty when every beam
+  /// shares the stamp.
+  std::vector<float> time_offset_s;
   std::vector<HeadInfo> heads;            ///< ordered by col_begin, covering [0, cols)
 
   /// Allocates rows x cols pixels, all invalid, with one head spanning every column.

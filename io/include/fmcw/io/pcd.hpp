@@ -2,8 +2,9 @@
 // Organized PCD (v0.7), the format PCL, Open3D, CloudCompare and ROS tools read directly.
 //
 // Frames are written as binary PCD with WIDTH = cols, HEIGHT = rows, NaN x/y/z where a beam had
-// no return, and fields x y z range v intensity, plus gt_range gt_v gt_vx gt_vy gt_vz instance
-// moving when the frame carries ground truth. Head layout and stamp travel in comment lines
+// no return, and fields x y z range v intensity, t (each beam's time after the stamp) when the
+// scan has it, plus gt_range gt_v gt_vx gt_vy gt_vz instance moving when the frame carries
+// ground truth. Head layout and stamp travel in comment lines
 // ("# fmcw_head ...", "# fmcw_stamp ..."), which other PCD readers skip.
 
 #include <string>

@@ -6,6 +6,7 @@
 
 #include "fmcw/core/ground_truth.hpp"
 #include "fmcw/core/head_model.hpp"
+#include "fmcw/sim/beam_divergence.hpp"
 #include "fmcw/sim/measurement_model.hpp"
 #include "fmcw/sim/scene.hpp"
 
@@ -18,6 +19,16 @@ struct LidarSimulatorParams {
   double moving_threshold_mps = 0.1;    ///< ground truth "moving" above this absolute speed [m/s]
   std::uint64_t seed = 0;               ///< noise seed; frame f, row r draws from mix(seed, f, r)
   int num_threads = 0;                  ///< 0: OpenMP default
+  /// Off (as in the paper): every beam at the frame's instant. On: each head sweeps its columns
+  /// left to right over one period (1 / rate_hz), rows firing together; the scene (ego and
+  /// every actor) is evaluated at each beam's own time, points are reported in the rig frame of
+  /// that time, and Scan::time_offset_s holds each pixel's offset from the frame stamp.
+  bool motion_distortion = false;
+  /// With motion_distortion: instants per frame; 0 = one per column (exact), fewer trades
+  /// accuracy for speed (beams of a slice share its middle instant).
+  int time_slices = 0;
+  /// Sub-rays per beam and how their returns merge (off by default: one ray per beam).
+  BeamDivergenceParams divergence;
 
   void validate() const;
 };
@@ -32,6 +43,8 @@ class LidarSimulator {
   LidarSimulator(std::shared_ptr<Scene> scene, std::shared_ptr<const Trajectory> ego, const LidarSimulatorParams& params);
 
   core::Frame simulate(std::uint64_t frame_index, double t_s);
+  /// Offset of a beam from the frame stamp [s] (0 without motion distortion).
+  double beam_time_offset_s(std::size_t head, int local_col) const;
   /// The same into an existing frame, reusing its buffers (every pixel is overwritten).
   void simulate(std::uint64_t frame_index, double t_s, core::Frame& frame);
   const LidarSimulatorParams& params() const { return params_; }
@@ -44,7 +57,10 @@ class LidarSimulator {
   std::vector<core::HeadInfo> head_infos_;
   std::vector<Eigen::Vector3f> directions_rig_;
   std::vector<Eigen::Vector3f> directions_world_;  // per frame
-  std::vector<std::size_t> col_head_;              // image column -> head index
+  SubRayPattern pattern_;
+  std::vector<Eigen::Vector3f> sub_directions_rig_;  // sub-rays of pixel i at [i * sub, (i + 1) * sub)
+
+  int slice_count() const;
 };
 
 }  // namespace fmcw::sim

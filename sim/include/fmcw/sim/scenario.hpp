@@ -48,6 +48,10 @@ struct Scenario {
   std::string rig_source;  ///< the config file the rig came from, or "inline"
   MeasurementParams measurement;
   double moving_threshold_mps = 0.1;
+  bool motion_distortion = false;  ///< simulation.motion_distortion
+  int time_slices = 0;             ///< simulation.time_slices
+  double min_range_m = 0.3;        ///< simulation.min_range_m
+  BeamDivergenceParams divergence; ///< simulation.beam_divergence (off: sub_rays 1)
   std::string materials_file;
   ReflectivityTable materials;
   float default_reflectivity = 0.3f;
