@@ -106,6 +106,7 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
   const std::uint64_t frame_seed = core::mix_seed(params_.seed, frame_index);
   const int threads = params_.num_threads > 0 ? params_.num_threads : omp_get_max_threads();
   const int slices = slice_count();
+  const double moving_threshold_sq = params_.moving_threshold_mps * params_.moving_threshold_mps;
 
   for (int k = 0; k < slices; ++k) {
     // The columns of slice k in each head, and the instant they are cast at.
@@ -235,7 +236,7 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
             gt.vy_mps[i] = static_cast<float>(v_rig.y());
             gt.vz_mps[i] = static_cast<float>(v_rig.z());
             gt.instance[i] = instance;
-            gt.moving[i] = velocity.norm() > params_.moving_threshold_mps ? 1 : 0;
+            gt.moving[i] = velocity.squaredNorm() > moving_threshold_sq ? 1 : 0;
           }
         }
       }

@@ -50,6 +50,7 @@ struct Scene::Impl {
   // Static world: triangles in world coordinates, merged.
   std::vector<float> static_vertices;
   std::vector<std::uint32_t> static_indices;
+  std::vector<Eigen::Vector3f> static_normals;  // unit, per static triangle
   // One Embree scene per asset part with triangles, shared between actors of the same asset.
   std::map<std::pair<const MeshAsset*, int>, RTCScene> part_scenes;
   // Instance slots: 0 = static world, then one per (actor, part with triangles).
@@ -134,6 +135,14 @@ void Scene::build() {
   // Slot 0: the static world, one high-quality BVH, instanced once with the identity.
   im.static_scene = rtcNewScene(im.device);
   rtcSetSceneBuildQuality(im.static_scene, RTC_BUILD_QUALITY_HIGH);
+  for (std::size_t t = 0; t + 2 < im.static_indices.size(); t += 3) {
+    const auto vertex = [&](std::size_t k) {
+      const std::size_t v = im.static_indices[t + k];
+      return Eigen::Vector3f(im.static_vertices[3 * v], im.static_vertices[3 * v + 1], im.static_vertices[3 * v + 2]);
+    };
+    const Eigen::Vector3f n = (vertex(1) - vertex(0)).cross(vertex(2) - vertex(0));
+    im.static_normals.push_back(n.norm() > 0.0f ? n.normalized() : Eigen::Vector3f::UnitZ());
+  }
   if (!im.static_indices.empty()) {
     RTCGeometry geom = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
@@ -316,12 +325,12 @@ void Scene::intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f* dire
 
 SurfaceSample Scene::resolve(const RayHit& hit, const Eigen::Vector3d& point_world) const {
   SurfaceSample s;
-  const Impl::Slot& slot = impl_->slots.at(hit.slot);
   if (hit.slot == 0) {
-    s.normal_world = hit.normal_object.cast<double>().normalized();
+    s.normal_world = impl_->static_normals[hit.primitive].cast<double>();
     s.reflectivity = static_reflectivity_[hit.primitive];
     return s;
   }
+  const Impl::Slot& slot = impl_->slots[hit.slot];
   const auto a = static_cast<std::size_t>(slot.actor);
   const auto k = static_cast<std::size_t>(slot.part);
   const Eigen::Matrix<double, 3, 4>& K = impl_->velocity_field[a][k];

@@ -52,6 +52,28 @@ TEST_F(ScenarioFiles, ShippedIntersectionLoadsWithItsActorsAndRig) {
   EXPECT_NE(yaml.find("velocity_sigma_mps: 0.031"), std::string::npos) << yaml.substr(0, 2000);
 }
 
+TEST_F(ScenarioFiles, ThePapersFourScenariosLoadAndSimulate) {
+  const std::pair<const char*, int> expected[] = {
+      {"intersection", 135}, {"t_intersection", 98}, {"straight_road", 91}, {"turn_and_straight_road", 151}};
+  for (const auto& [name, frames] : expected) {
+    const LoadedScenario s = load_scenario(kSource + "/scenarios/" + name + ".yaml");
+    EXPECT_EQ(s.scenario.frames, frames) << name;
+    SimulationSetup setup = build_simulation(s, 0);
+    LidarSimulator sim(setup.scene, setup.ego, setup.params);
+    // Early, middle and late in the sequence.
+    for (const int k : {5, frames / 2, frames - 5}) {
+    const auto frame = static_cast<std::uint64_t>(k);
+    const core::Frame f = sim.simulate(frame, s.scenario.frame_time_s(frame));
+    EXPECT_GT(f.scan.num_valid(), f.scan.size() / 3) << name;
+    int moving = 0, visible_actors = 0;
+    for (std::size_t i = 0; i < f.scan.size(); ++i) moving += f.truth->moving[i];
+    for (const auto& a : f.frame_truth->actors) visible_actors += a.pixels > 0;
+    EXPECT_GT(moving, 200) << name << " frame " << k;
+    EXPECT_GE(visible_actors, 2) << name << " frame " << k;
+    }
+  }
+}
+
 TEST_F(ScenarioFiles, AssetsLoadWithTheirParts) {
   const ReflectivityTable table = {{"car_paint", 0.3f}, {"tire", 0.05f}};
   const MeshAsset car = load_mesh_asset(asset("car.gltf"), table, 0.2f);
