@@ -122,13 +122,21 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
     const RigPose pose = rig_pose(ego_->state(t_slice), params_.rig);
     const Eigen::Matrix3d R_wr = pose.T_world_rig.linear();
     const Eigen::Matrix3f R_wr_f = R_wr.cast<float>();
-    for (int r = 0; r < rows; ++r) {
-      for (std::size_t h = 0; h < span.size(); ++h) {
-        for (int c = span[h].first; c < span[h].second; ++c) {
-          const std::size_t i = scan.index(r, c);
-          directions_world_[i] = R_wr_f * directions_rig_[i];  // rotations keep unit vectors unit
+    // World beam directions: rotations keep unit vectors unit. A rig that did not turn since
+    // the last frame keeps last frame's directions (all columns are one slice then).
+    if (slices > 1 || !(R_wr_f == last_rotation_)) {
+      const float* m = R_wr_f.data();  // column-major
+      for (int r = 0; r < rows; ++r) {
+        for (std::size_t h = 0; h < span.size(); ++h) {
+          for (int c = span[h].first; c < span[h].second; ++c) {
+            const std::size_t i = scan.index(r, c);
+            const float x = directions_rig_[i].x(), y = directions_rig_[i].y(), z = directions_rig_[i].z();
+            directions_world_[i] = Eigen::Vector3f(m[0] * x + m[3] * y + m[6] * z, m[1] * x + m[4] * y + m[7] * z,
+                                                   m[2] * x + m[5] * y + m[8] * z);
+          }
         }
       }
+      last_rotation_ = slices > 1 ? Eigen::Matrix3f::Constant(std::numeric_limits<float>::quiet_NaN()) : R_wr_f;
     }
 
 #pragma omp parallel num_threads(threads)
@@ -255,7 +263,7 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
   truth.ego.angular_velocity_rps = R_wr.transpose() * ego.twist.angular_rps;
   std::map<std::uint32_t, int> pixels;
   for (std::size_t i = 0; i < n; ++i) {
-    if (scan.valid[i] && gt.instance[i] != 0) ++pixels[gt.instance[i]];
+    if (gt.instance[i] != 0) ++pixels[gt.instance[i]];  // 0 where there is no return
   }
   for (std::size_t a = 0; a < scene_->actors().size(); ++a) {
     const SceneObject& actor = scene_->actors()[a];

@@ -68,6 +68,26 @@ int MeshAsset::find_part(const std::string& name) const {
   return -1;
 }
 
+MeshAsset box_mesh(const Eigen::Vector3f& h, float reflectivity, const std::string& name) {
+  MeshAsset asset;
+  asset.path = "<box>";
+  MeshPart part;
+  part.name = name;
+  for (int k = 0; k < 8; ++k) {
+    part.vertices.emplace_back((k & 1) ? h.x() : -h.x(), (k & 2) ? h.y() : -h.y(), (k & 4) ? h.z() : -h.z());
+  }
+  // Two counter-clockwise (seen from outside) triangles per face.
+  const std::uint32_t faces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                                      {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  for (const auto& f : faces) {
+    part.indices.insert(part.indices.end(), {f[0], f[1], f[2]});
+    part.triangle_reflectivity.push_back(reflectivity);
+  }
+  for (const auto& v : part.vertices) asset.rest_bounds.extend(v.cast<double>());
+  asset.parts.push_back(std::move(part));
+  return asset;
+}
+
 MeshAsset load_mesh_asset(const std::string& path, const ReflectivityTable& reflectivity, float default_reflectivity) {
   if (!std::filesystem::is_regular_file(path)) {
     throw std::invalid_argument("mesh '" + path + "' does not exist");

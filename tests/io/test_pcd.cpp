@@ -7,25 +7,16 @@
 
 #include "fmcw/core/synthetic_scan.hpp"
 #include "fmcw/io/pcd.hpp"
+#include "support/temp_dir.hpp"
 
 namespace fmcw::io {
 namespace {
 
 namespace fs = std::filesystem;
 
-class PcdTest : public ::testing::Test {
+class PcdTest : public fmcw::test::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("fmcw_pcd_test_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  void write_text(const std::string& name, const std::string& text) const {
-    std::ofstream(path(name), std::ios::binary) << text;
-  }
+  void write_text(const std::string& name, const std::string& text) const { write(name, text); }
   // Expects read_frame(path) to throw std::invalid_argument whose message holds every fragment.
   void expect_error(const std::string& name, const std::vector<std::string>& fragments) const {
     try {
@@ -35,7 +26,6 @@ class PcdTest : public ::testing::Test {
       for (const auto& f : fragments) EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
     }
   }
-  fs::path dir_;
 };
 
 core::Frame small_frame() {

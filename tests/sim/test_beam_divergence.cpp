@@ -58,17 +58,7 @@ TEST(MergeSubReturns, CloseReturnsFormOnePeakAndTheStrongestPeakWins) {
 }
 
 std::shared_ptr<const MeshAsset> slab(const Eigen::Vector3f& h, float reflectivity) {
-  MeshAsset asset;
-  MeshPart part;
-  for (int k = 0; k < 8; ++k) part.vertices.emplace_back((k & 1) ? h.x() : -h.x(), (k & 2) ? h.y() : -h.y(), (k & 4) ? h.z() : -h.z());
-  const std::uint32_t faces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                      {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-  for (const auto& f : faces) {
-    part.indices.insert(part.indices.end(), {f[0], f[1], f[2]});
-    part.triangle_reflectivity.push_back(reflectivity);
-  }
-  asset.parts.push_back(part);
-  return std::make_shared<const MeshAsset>(asset);
+  return std::make_shared<const MeshAsset>(box_mesh(h, reflectivity));
 }
 
 TEST(BeamDivergence, DepthStepsStaySeparatePeaksAndOnlyTheSilhouetteChanges) {

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "fmcw/sim/scenario.hpp"
+#include "support/temp_dir.hpp"
 
 namespace fmcw::sim {
 namespace {
@@ -13,20 +14,8 @@ namespace {
 namespace fs = std::filesystem;
 const std::string kSource = FMCW_SOURCE_DIR;
 
-class ScenarioFiles : public ::testing::Test {
+class ScenarioFiles : public fmcw::test::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("fmcw_scenario_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string write(const std::string& name, const std::string& text) {
-    const std::string path = (dir_ / name).string();
-    std::ofstream(path) << text;
-    return path;
-  }
   // The scenario text must fail to load with a message holding every fragment.
   void expect_error(const std::string& text, const std::vector<std::string>& fragments) {
     const std::string path = write("s.yaml", text);
@@ -38,7 +27,6 @@ class ScenarioFiles : public ::testing::Test {
     }
   }
   std::string asset(const std::string& name) const { return kSource + "/assets/" + name; }
-  fs::path dir_;
 };
 
 TEST_F(ScenarioFiles, ShippedIntersectionLoadsWithItsActorsAndRig) {

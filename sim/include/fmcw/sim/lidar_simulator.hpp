@@ -2,6 +2,7 @@
 // Casts every beam of a rig through an animated scene and makes an FMCW frame with ground truth.
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 
 #include "fmcw/core/ground_truth.hpp"
@@ -57,6 +58,7 @@ class LidarSimulator {
   std::vector<core::HeadInfo> head_infos_;
   std::vector<Eigen::Vector3f> directions_rig_;
   std::vector<Eigen::Vector3f> directions_world_;  // per frame
+  Eigen::Matrix3f last_rotation_ = Eigen::Matrix3f::Constant(std::numeric_limits<float>::quiet_NaN());
   SubRayPattern pattern_;
   std::vector<Eigen::Vector3f> sub_directions_rig_;  // sub-rays of pixel i at [i * sub, (i + 1) * sub)
 

@@ -30,6 +30,10 @@ struct MeshAsset {
   int find_part(const std::string& name) const;  ///< -1 when absent
 };
 
+/// A closed box [-h, h] (outward triangles) as a one-part asset named `name`: handy for
+/// analytic scenes and studies, where every hit and velocity is known in closed form.
+MeshAsset box_mesh(const Eigen::Vector3f& half_extent_m, float reflectivity, const std::string& name = "box");
+
 /// Loads any format assimp reads (OBJ, glTF/GLB, PLY, STL, FBX, ...). Each triangle's
 /// reflectivity comes from its material's name in the table, else default_reflectivity.
 /// Throws std::invalid_argument naming the file when it is missing, unreadable by assimp, or
