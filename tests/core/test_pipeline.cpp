@@ -148,6 +148,42 @@ TEST_P(ThreadCount, SerialAndParallelGiveIdenticalResults) {
 
 INSTANTIATE_TEST_SUITE_P(Methods, ThreadCount, ::testing::Values("fast", "paper"));
 
+TEST(MotionPipeline, ManyClustersGiveIdenticalResultsWithOneOrTwoThreads) {
+  // A wall of 4 x 4 pixel tiles, every other tile moving at its own velocity: hundreds of
+  // clusters, enough for the closed form to solve them in parallel.
+  Scan scan = Scan::make_empty(120, 160);
+  for (int r = 0; r < scan.rows; ++r) {
+    for (int c = 0; c < scan.cols; ++c) {
+      const std::size_t i = scan.index(r, c);
+      const double az = (80 - c) * 0.004, el = (60 - r) * 0.004;
+      const Eigen::Vector3d e(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+      const double range = 20.0 / e.x();
+      const int tile = (r / 4) * 40 + c / 4;
+      const bool moving = ((r / 4) + (c / 4)) % 2 == 1;
+      const Eigen::Vector3d v = moving ? Eigen::Vector3d(1.0 + 0.37 * (tile % 11), 0.5 * (tile % 5), 0.0) : Eigen::Vector3d::Zero();
+      scan.x_m[i] = static_cast<float>(range * e.x());
+      scan.y_m[i] = static_cast<float>(range * e.y());
+      scan.z_m[i] = static_cast<float>(range * e.z());
+      scan.range_m[i] = static_cast<float>(range);
+      scan.radial_velocity_mps[i] = static_cast<float>(e.dot(v) + 3.0 * e.x());  // ego at -3 m/s along x
+      scan.intensity[i] = 1.0f;
+      scan.valid[i] = 1;
+    }
+  }
+  MotionPipelineParams one = MotionPipelineParams::preset("fast");
+  one.num_threads = 1;
+  MotionPipelineParams two = one;
+  two.num_threads = 2;
+  const MotionEstimate a = MotionPipeline(one).process(scan);
+  const MotionEstimate b = MotionPipeline(two).process(scan);
+  ASSERT_GE(a.clusters.size(), 256u);
+  ASSERT_EQ(a.clusters.size(), b.clusters.size());
+  for (std::size_t k = 0; k < a.clusters.size(); ++k) {
+    EXPECT_EQ(0, std::memcmp(a.clusters[k].velocity.velocity_mps.data(), b.clusters[k].velocity.velocity_mps.data(),
+                             3 * sizeof(double)));
+  }
+}
+
 TEST(MotionPipeline, EmptyAndAllInvalidScansGiveDocumentedStatus) {
   MotionPipeline pipeline;
   Scan invalid = Scan::make_empty(10, 12);
