@@ -21,19 +21,6 @@ Rng::Rng(std::uint64_t seed) {
   }
 }
 
-std::uint64_t Rng::next_u64() {
-  const auto rotl = [](std::uint64_t v, int k) { return (v << k) | (v >> (64 - k)); };
-  const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
-  const std::uint64_t t = s_[1] << 17;
-  s_[2] ^= s_[0];
-  s_[3] ^= s_[1];
-  s_[1] ^= s_[2];
-  s_[0] ^= s_[3];
-  s_[2] ^= t;
-  s_[3] = rotl(s_[3], 45);
-  return result;
-}
-
 double Rng::uniform() { return static_cast<double>(next_u64() >> 11) * 0x1.0p-53; }
 
 std::uint64_t Rng::uniform_below(std::uint64_t n) {
@@ -52,51 +39,38 @@ namespace {
 constexpr double kZigR = 3.442619855899;
 constexpr double kZigV = 9.91256303526217e-3;
 
-struct ZigguratTables {
-  std::uint32_t k[128];
-  double w[128];
-  double f[128];
-  ZigguratTables() {
-    const double m = 2147483648.0;  // 2^31
-    double dn = kZigR;
-    double tn = dn;
-    const double q = kZigV / std::exp(-0.5 * dn * dn);
-    k[0] = static_cast<std::uint32_t>((dn / q) * m);
-    k[1] = 0;
-    w[0] = q / m;
-    w[127] = dn / m;
-    f[0] = 1.0;
-    f[127] = std::exp(-0.5 * dn * dn);
-    for (int i = 126; i >= 1; --i) {
-      dn = std::sqrt(-2.0 * std::log(kZigV / dn + std::exp(-0.5 * dn * dn)));
-      k[i + 1] = static_cast<std::uint32_t>((dn / tn) * m);
-      tn = dn;
-      f[i] = std::exp(-0.5 * dn * dn);
-      w[i] = dn / m;
-    }
-  }
-};
-
-const ZigguratTables& zig() {
-  static const ZigguratTables tables;
-  return tables;
-}
-
 }  // namespace
 
-double Rng::normal() {
-  const ZigguratTables& t = zig();
-  // Layer index from the low bits, signed value from the high 32 bits: independent bits.
-  const std::uint64_t bits = next_u64();
-  const int iz = static_cast<int>(bits & 127u);
-  const auto hz = static_cast<std::int64_t>(static_cast<std::int32_t>(bits >> 32));
-  const std::uint64_t mag = static_cast<std::uint64_t>(hz < 0 ? -hz : hz);
-  if (mag < t.k[iz]) return static_cast<double>(hz) * t.w[iz];
-  return normal_slow(hz, iz);
+namespace detail {
+
+ZigguratTables::ZigguratTables() {
+  const double m = 2147483648.0;  // 2^31
+  double dn = kZigR;
+  double tn = dn;
+  const double q = kZigV / std::exp(-0.5 * dn * dn);
+  k[0] = static_cast<std::uint32_t>((dn / q) * m);
+  k[1] = 0;
+  w[0] = q / m;
+  w[127] = dn / m;
+  f[0] = 1.0;
+  f[127] = std::exp(-0.5 * dn * dn);
+  for (int i = 126; i >= 1; --i) {
+    dn = std::sqrt(-2.0 * std::log(kZigV / dn + std::exp(-0.5 * dn * dn)));
+    k[i + 1] = static_cast<std::uint32_t>((dn / tn) * m);
+    tn = dn;
+    f[i] = std::exp(-0.5 * dn * dn);
+    w[i] = dn / m;
+  }
 }
 
+// Built during static initialisation of this file: draws must not happen in other files'
+// static initialisers.
+const ZigguratTables kZiggurat;
+
+}  // namespace detail
+
 double Rng::normal_slow(std::int64_t hz, int iz) {
-  const ZigguratTables& t = zig();
+  const detail::ZigguratTables& t = detail::kZiggurat;
   for (;;) {
     const double x = static_cast<double>(hz) * t.w[iz];
     if (iz == 0) {
