@@ -107,6 +107,8 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
   const int threads = params_.num_threads > 0 ? params_.num_threads : omp_get_max_threads();
   const int slices = slice_count();
   const double moving_threshold_sq = params_.moving_threshold_mps * params_.moving_threshold_mps;
+  std::vector<Eigen::Vector3d> mount_rig;
+  for (const auto& head : params_.rig.heads) mount_rig.push_back(head.T_rig_head.translation());
 
   for (int k = 0; k < slices; ++k) {
     // The columns of slice k in each head, and the instant they are cast at.
@@ -190,8 +192,8 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
                 range = ray.distance_m;
                 const SurfaceSample s = scene_->resolve(ray, origin + range * e);
                 // Eq. 6: v = e . (V_point - V_lidar), both in the world frame (the dot product
-                // does not depend on the frame it is evaluated in).
-                doppler = e.dot(s.velocity_world_mps - v_origin);
+                // does not depend on the frame it is evaluated in). The static world is at rest.
+                doppler = ray.slot == 0 ? -e.dot(v_origin) : e.dot(s.velocity_world_mps - v_origin);
                 velocity = s.velocity_world_mps;
                 intensity = return_intensity(s.reflectivity, e.dot(s.normal_world), range);
                 instance = s.actor_id;
@@ -227,9 +229,9 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
               continue;
             }
             const MeasurementModel::Reading m = measurement_.measure(range, doppler, rng);
-            // Reported along the beam's axis, in the rig frame of the beam's own instant: the
-            // motion skew of a real sweep.
-            const Eigen::Vector3d p_rig = pose.T_rig_world * (origin + m.range_m * e);
+            // Reported along the beam's axis, in the rig frame of the beam's own instant (the
+            // motion skew of a real sweep): T_rig_world (o + r e) = mount + r e_rig.
+            const Eigen::Vector3d p_rig = mount_rig[h] + m.range_m * directions_rig_[i].cast<double>();
             scan.x_m[i] = static_cast<float>(p_rig.x());
             scan.y_m[i] = static_cast<float>(p_rig.y());
             scan.z_m[i] = static_cast<float>(p_rig.z());
@@ -237,7 +239,7 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
             scan.radial_velocity_mps[i] = static_cast<float>(m.radial_velocity_mps);
             scan.intensity[i] = intensity;
             scan.valid[i] = 1;
-            const Eigen::Vector3d v_rig = R_wr.transpose() * velocity;
+            const Eigen::Vector3d v_rig = instance == 0 && sub == 1 ? Eigen::Vector3d::Zero() : Eigen::Vector3d(R_wr.transpose() * velocity);
             gt.range_m[i] = static_cast<float>(range);
             gt.radial_velocity_mps[i] = static_cast<float>(doppler);
             gt.vx_mps[i] = static_cast<float>(v_rig.x());
