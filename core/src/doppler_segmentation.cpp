@@ -10,20 +10,6 @@ namespace {
 constexpr std::int32_t kBlocked = -1;    // padding and invalid pixels
 constexpr std::int32_t kUnvisited = -2;  // valid pixel not yet in a region
 
-// Column spans that form one connected image: heads joined by stitched seams.
-std::vector<std::pair<int, int>> connected_column_groups(const Scan& scan) {
-  std::vector<std::pair<int, int>> groups;
-  for (std::size_t h = 0; h < scan.heads.size(); ++h) {
-    const HeadInfo& head = scan.heads[h];
-    if (h > 0 && scan.heads[h - 1].stitched_to_next) {
-      groups.back().second = head.col_end;
-    } else {
-      groups.emplace_back(head.col_begin, head.col_end);
-    }
-  }
-  return groups;
-}
-
 void check_sizes(const Scan& scan) {
   FMCW_CHECK_ARG(scan.rows >= 0 && scan.cols >= 0 && scan.valid.size() == scan.size() &&
                      scan.radial_velocity_mps.size() == scan.size(),
@@ -157,7 +143,7 @@ void DopplerSegmenter::grow_regions(const Scan& scan, Segmentation& out) {
 
 void DopplerSegmenter::union_find_regions(const Scan& scan, Segmentation& out) {
   const float threshold = static_cast<float>(params_.velocity_threshold_mps);
-  const auto groups = connected_column_groups(scan);
+  const auto groups = scan.connected_column_groups();
   const std::uint8_t* valid = scan.valid.data();
   const float* vel = scan.radial_velocity_mps.data();
   // Runs: maximal horizontal stretches joined pixel to pixel, numbered in scan order. A union

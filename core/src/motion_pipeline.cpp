@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -45,6 +46,9 @@ void VelocityParams::validate() const {
 void MotionPipelineParams::validate() const {
   segmentation.validate();
   velocity.validate();
+  ego.validate();
+  instances.validate();
+  FMCW_CHECK_ARG(moving_sigma > 0.0, "pipeline: moving_sigma must be > 0, got ", moving_sigma);
   FMCW_CHECK_ARG(num_threads >= 0, "pipeline: num_threads must be >= 0, got ", num_threads);
 }
 
@@ -56,6 +60,8 @@ MotionPipelineParams MotionPipelineParams::preset(const std::string& method) {
     p.velocity.solver = VelocitySolver::kCeres;
     p.velocity.ego_max_points = 1000;
     p.velocity.object_max_points = 200;
+  } else if (method == "robust") {
+    p.approach = MotionApproach::kRobustEgo;
   } else if (method == "fast") {
     p.velocity.solver = VelocitySolver::kClosedForm;
     p.velocity.ego_max_points = 0;
@@ -68,7 +74,9 @@ MotionPipelineParams MotionPipelineParams::preset(const std::string& method) {
   return p;
 }
 
-std::vector<std::string> MotionPipelineParams::preset_names() { return {"paper", "fast"}; }
+std::vector<std::string> MotionPipelineParams::preset_names() { return {"paper", "fast", "robust"}; }
+
+std::string MotionPipelineParams::default_method() { return "robust"; }
 
 std::string to_string(MotionStatus status) {
   switch (status) {
@@ -176,7 +184,172 @@ std::vector<std::uint32_t> pixels_with_label(const std::vector<std::int32_t>& la
 
 }  // namespace
 
+namespace {
+
+// Small instances that touch a larger one whose rigid motion explains their Doppler join it.
+// rows[l - 1] holds instance l's rows (targets already ego-compensated). Returns whether any
+// instance was merged; labels are updated in place (numbering may have gaps).
+bool merge_fragments(const Scan& scan, const std::vector<VelocityRows>& rows, const std::vector<VelocityEstimate>& velocity,
+                     const InstanceParams& params, std::vector<std::int32_t>& labels) {
+  const int k = static_cast<int>(rows.size());
+  std::vector<std::int32_t> target(static_cast<std::size_t>(k) + 1, 0);
+  const auto groups = scan.connected_column_groups();
+  std::vector<int> group_of(static_cast<std::size_t>(scan.cols), 0);
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    for (int c = groups[g].first; c < groups[g].second; ++c) group_of[static_cast<std::size_t>(c)] = static_cast<int>(g);
+  }
+  // The largest instance touching each small one.
+  for (int r = 0; r < scan.rows; ++r) {
+    for (int c = 0; c < scan.cols; ++c) {
+      const std::int32_t l = labels[scan.index(r, c)];
+      if (l <= 0 || static_cast<int>(rows[static_cast<std::size_t>(l - 1)].size()) >= params.fragment_pixels) continue;
+      for (int dr = -1; dr <= 1; ++dr) {
+        for (int dc = -1; dc <= 1; ++dc) {
+          const int rr = r + dr, cc = c + dc;
+          if (rr < 0 || rr >= scan.rows || cc < 0 || cc >= scan.cols) continue;
+          if (group_of[static_cast<std::size_t>(cc)] != group_of[static_cast<std::size_t>(c)]) continue;
+          const std::int32_t m = labels[scan.index(rr, cc)];
+          if (m <= 0 || m == l || rows[static_cast<std::size_t>(m - 1)].size() <= rows[static_cast<std::size_t>(l - 1)].size()) continue;
+          std::int32_t& t = target[static_cast<std::size_t>(l)];
+          if (t == 0 || rows[static_cast<std::size_t>(m - 1)].size() > rows[static_cast<std::size_t>(t - 1)].size()) t = m;
+        }
+      }
+    }
+  }
+  bool merged = false;
+  std::vector<double> residual;
+  for (int l = 1; l <= k; ++l) {
+    const std::int32_t t = target[static_cast<std::size_t>(l)];
+    if (t == 0 || !velocity[static_cast<std::size_t>(t - 1)].valid) continue;
+    const VelocityRows& rw = rows[static_cast<std::size_t>(l - 1)];
+    const Eigen::Vector3d& v = velocity[static_cast<std::size_t>(t - 1)].velocity_mps;
+    residual.clear();
+    for (std::size_t q = 0; q < rw.size(); ++q) residual.push_back(std::abs(rw.targets_mps[q] - rw.directions[q].dot(v)));
+    std::nth_element(residual.begin(), residual.begin() + static_cast<std::ptrdiff_t>(residual.size() / 2), residual.end());
+    if (residual[residual.size() / 2] >= params.fragment_residual_mps) continue;
+    target[static_cast<std::size_t>(l)] = -t;  // merge l into t
+    merged = true;
+  }
+  if (!merged) return false;
+  for (auto& lab : labels) {
+    if (lab > 0 && target[static_cast<std::size_t>(lab)] < 0) lab = -target[static_cast<std::size_t>(lab)];
+  }
+  return true;
+}
+
+}  // namespace
+
+MotionEstimate MotionPipeline::process_robust(const Scan& scan, std::uint64_t frame_index) {
+  scan.validate();
+  const auto t_start = Clock::now();
+  MotionEstimate out;
+  out.method = params_.method;
+  out.rows = scan.rows;
+  out.cols = scan.cols;
+  if (scan.num_valid() == 0) {
+    out.labels.assign(scan.size(), Segmentation::kInvalid);
+    out.status = MotionStatus::kNoValidPoints;
+    out.message = "scan has no valid pixels";
+    out.timing.total_ms = ms_since(t_start);
+    return out;
+  }
+  const std::uint64_t frame_seed = mix_seed(params_.seed, frame_index);
+  const EgoTwistEstimate twist = estimate_ego_twist(scan, params_.ego, frame_seed);
+  out.ego = twist.velocity;
+  out.ego_angular_velocity_rps = twist.angular_velocity_rps;
+  out.ego_yaw_rate_estimated = twist.yaw_rate_estimated;
+  out.ego_standing = twist.standing;
+  out.timing.ego_ms = ms_since(t_start);
+
+  // Moving: Doppler the ego twist does not explain, beyond noise and the twist's uncertainty.
+  const auto t_cluster = Clock::now();
+  const std::vector<Eigen::Vector3d> col_origin = column_origins(scan);
+  std::vector<Eigen::Vector3d> head_velocity(static_cast<std::size_t>(scan.cols));
+  for (int c = 0; c < scan.cols; ++c) head_velocity[static_cast<std::size_t>(c)] = twist.velocity_at(col_origin[static_cast<std::size_t>(c)]);
+  const Eigen::Matrix3d cov = twist.velocity.covariance.allFinite() ? twist.velocity.covariance : Eigen::Matrix3d::Zero();
+  const double sigma2 = params_.ego.noise_sigma_mps * params_.ego.noise_sigma_mps;
+  std::vector<std::uint8_t> moving(scan.size(), 0);
+  if (twist.valid) {
+    for (int r = 0; r < scan.rows; ++r) {
+      for (int c = 0; c < scan.cols; ++c) {
+        const std::size_t i = scan.index(r, c);
+        if (!scan.valid[i]) continue;
+        const Eigen::Vector3d e = (scan.position(i) - col_origin[static_cast<std::size_t>(c)]).normalized();
+        const double residual = scan.radial_velocity_mps[i] + e.dot(head_velocity[static_cast<std::size_t>(c)]);
+        const double var = sigma2 + e.dot(cov * e);
+        moving[i] = residual * residual > params_.moving_sigma * params_.moving_sigma * var ? 1 : 0;
+      }
+    }
+  }
+  Segmentation seg = label_moving_instances(scan, moving, params_.instances);
+  out.labels = std::move(seg.labels);
+  out.num_static_pixels = static_cast<int>(seg.static_pixels);
+  out.timing.clustering_ms = ms_since(t_cluster);
+
+  // Each instance's velocity (Eq. 22 with each head's own origin velocity V + omega x r).
+  const auto t_obj = Clock::now();
+  const auto solve_all = [&](int k, std::vector<VelocityRows>& rows, std::vector<Eigen::Vector3d>& centroid,
+                             std::vector<VelocityEstimate>& velocity) {
+    rows.assign(static_cast<std::size_t>(k), VelocityRows{});
+    centroid.assign(static_cast<std::size_t>(k), Eigen::Vector3d::Zero());
+    velocity.assign(static_cast<std::size_t>(k), VelocityEstimate{});
+    for (int r = 0; r < scan.rows; ++r) {
+      for (int c = 0; c < scan.cols; ++c) {
+        const std::size_t i = scan.index(r, c);
+        const std::int32_t l = out.labels[i];
+        if (l <= 0) continue;
+        const Eigen::Vector3d p = scan.position(i);
+        const Eigen::Vector3d e = (p - col_origin[static_cast<std::size_t>(c)]).normalized();
+        VelocityRows& rw = rows[static_cast<std::size_t>(l - 1)];
+        rw.directions.push_back(e);
+        rw.targets_mps.push_back(scan.radial_velocity_mps[i] + e.dot(head_velocity[static_cast<std::size_t>(c)]));
+        centroid[static_cast<std::size_t>(l - 1)] += p;
+      }
+    }
+    if (!twist.valid) return;
+    for (int c = 0; c < k; ++c) {
+      const VelocityRows& rw = rows[static_cast<std::size_t>(c)];
+      velocity[static_cast<std::size_t>(c)] = params_.planar_objects
+                                                  ? solve_velocity_planar_robust(rw, params_.ego.noise_sigma_mps)
+                                                  : solve_velocity_closed_form(rw, params_.velocity.qr_condition_threshold);
+    }
+  };
+  int k = seg.num_clusters();
+  std::vector<VelocityRows> rows;
+  std::vector<Eigen::Vector3d> centroid;
+  std::vector<VelocityEstimate> velocity;
+  solve_all(k, rows, centroid, velocity);
+  if (twist.valid && k > 1 && merge_fragments(scan, rows, velocity, params_.instances, out.labels)) {
+    // Renumber by first pixel and solve the merged instances again.
+    std::vector<std::int32_t> renumber(static_cast<std::size_t>(k) + 1, 0);
+    std::int32_t next = 0;
+    for (auto& l : out.labels) {
+      if (l <= 0) continue;
+      if (renumber[static_cast<std::size_t>(l)] == 0) renumber[static_cast<std::size_t>(l)] = ++next;
+      l = renumber[static_cast<std::size_t>(l)];
+    }
+    k = next;
+    solve_all(k, rows, centroid, velocity);
+  }
+  out.clusters.resize(static_cast<std::size_t>(k));
+  for (int c = 0; c < k; ++c) {
+    ClusterEstimate& cluster = out.clusters[static_cast<std::size_t>(c)];
+    cluster.id = c + 1;
+    cluster.num_pixels = static_cast<int>(rows[static_cast<std::size_t>(c)].size());
+    cluster.centroid_m = centroid[static_cast<std::size_t>(c)] / static_cast<double>(cluster.num_pixels);
+    cluster.velocity = velocity[static_cast<std::size_t>(c)];
+  }
+  out.timing.objects_ms = ms_since(t_obj);
+  if (!twist.valid) {
+    out.status = MotionStatus::kTooFewStaticPoints;
+    out.message = concat("ego velocity not estimable: ", twist.inliers, " points consistent with a static world");
+  }
+  out.timing.total_ms = ms_since(t_start);
+  return out;
+}
+
 MotionEstimate MotionPipeline::process(const Scan& scan, std::uint64_t frame_index) {
+  if (params_.approach == MotionApproach::kRobustEgo) return process_robust(scan, frame_index);
   const VelocityParams& vp = params_.velocity;
   const bool fused = vp.solver == VelocitySolver::kClosedForm && vp.ego_max_points == 0 && vp.object_max_points == 0;
   // The fused path reads only valid, v and x, y, z; it checks v during segmentation and

@@ -47,6 +47,18 @@ Eigen::Vector3d Scan::beam_origin(std::size_t i) const {
       .origin_m();
 }
 
+std::vector<std::pair<int, int>> Scan::connected_column_groups() const {
+  std::vector<std::pair<int, int>> groups;
+  for (std::size_t h = 0; h < heads.size(); ++h) {
+    if (h > 0 && heads[h - 1].stitched_to_next) {
+      groups.back().second = heads[h].col_end;
+    } else {
+      groups.emplace_back(heads[h].col_begin, heads[h].col_end);
+    }
+  }
+  return groups;
+}
+
 void Scan::validate_layout() const {
   FMCW_CHECK_ARG(rows >= 0 && cols >= 0, "scan: negative size ", rows, " x ", cols);
   const std::size_t n = size();

@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
+#include <algorithm>
 #include <cmath>
 
 namespace fmcw::core {
@@ -99,6 +100,68 @@ VelocityEstimate solve_normal_equations(const NormalEquations& ne, double qr_con
   }
   fill_statistics(ne, est);
   est.valid = full_rank && est.velocity_mps.allFinite();
+  return est;
+}
+
+VelocityEstimate solve_velocity_planar(const VelocityRows& rows) {
+  VelocityEstimate est;
+  est.num_points = static_cast<int>(rows.size());
+  if (rows.size() < 2) return est;
+  Eigen::Matrix2d N = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d g = Eigen::Vector2d::Zero();
+  double yty = 0.0;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const Eigen::Vector2d a = rows.directions[k].head<2>();
+    N.noalias() += a * a.transpose();
+    g += rows.targets_mps[k] * a;
+    yty += rows.targets_mps[k] * rows.targets_mps[k];
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(N);
+  const double lmin = eig.eigenvalues()(0);
+  est.information_eigenvalues = Eigen::Vector3d(0.0, eig.eigenvalues()(0), eig.eigenvalues()(1));
+  est.condition_number = lmin > 0.0 ? eig.eigenvalues()(1) / lmin : std::numeric_limits<double>::infinity();
+  if (!(lmin > 0.0)) return est;
+  const Eigen::Vector2d v = N.ldlt().solve(g);
+  est.velocity_mps = Eigen::Vector3d(v.x(), v.y(), 0.0);
+  const double rss = std::max(0.0, yty - 2.0 * v.dot(g) + v.dot(N * v));
+  est.residual_rms_mps = std::sqrt(rss / static_cast<double>(rows.size()));
+  est.covariance.setZero();
+  if (rows.size() > 2) est.covariance.topLeftCorner<2, 2>() = rss / static_cast<double>(rows.size() - 2) * N.inverse();
+  est.valid = v.allFinite();
+  return est;
+}
+
+VelocityEstimate solve_velocity_planar_robust(const VelocityRows& rows, double noise_sigma_mps, int iterations) {
+  VelocityEstimate est = solve_velocity_planar(rows);
+  if (!est.valid) return est;
+  const std::size_t n = rows.size();
+  std::vector<double> residual(n), scratch(n);
+  Eigen::Vector2d v = est.velocity_mps.head<2>();
+  Eigen::Matrix2d N = Eigen::Matrix2d::Zero();
+  for (int it = 0; it < iterations; ++it) {
+    for (std::size_t k = 0; k < n; ++k) residual[k] = rows.targets_mps[k] - rows.directions[k].head<2>().dot(v);
+    for (std::size_t k = 0; k < n; ++k) scratch[k] = std::abs(residual[k]);
+    std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(n / 2), scratch.end());
+    // Tukey's biweight with c = 4.685 robust standard deviations (1.4826 MAD).
+    const double scale = std::max(noise_sigma_mps, 1.4826 * scratch[n / 2]);
+    const double c = 4.685 * scale;
+    N.setZero();
+    Eigen::Vector2d g = Eigen::Vector2d::Zero();
+    for (std::size_t k = 0; k < n; ++k) {
+      const double u = residual[k] / c;
+      if (std::abs(u) >= 1.0) continue;
+      const double w = (1.0 - u * u) * (1.0 - u * u);
+      const Eigen::Vector2d a = rows.directions[k].head<2>();
+      N.noalias() += w * a * a.transpose();
+      g += w * rows.targets_mps[k] * a;
+    }
+    const Eigen::Vector2d next = N.ldlt().solve(g);
+    if (!next.allFinite() || N.determinant() <= 0.0) break;
+    const bool converged = (next - v).norm() < 1e-6;
+    v = next;
+    if (converged) break;
+  }
+  est.velocity_mps = Eigen::Vector3d(v.x(), v.y(), 0.0);
   return est;
 }
 

@@ -55,8 +55,8 @@ TEST(MotionPipeline, EgoUsesEachHeadsOwnOrigin) {
   const Frame frame = render_synthetic_scan(p);
   Scan wrong = frame.scan;
   for (auto& head : wrong.heads) head.T_rig_head.translation().setZero();
-  const MotionEstimate good = MotionPipeline().process(frame.scan);
-  const MotionEstimate bad = MotionPipeline().process(wrong);
+  const MotionEstimate good = MotionPipeline(MotionPipelineParams::preset("fast")).process(frame.scan);
+  const MotionEstimate bad = MotionPipeline(MotionPipelineParams::preset("fast")).process(wrong);
   EXPECT_LT((good.ego.velocity_mps - p.ego_velocity_mps).norm(), 1e-6);
   EXPECT_GT((bad.ego.velocity_mps - p.ego_velocity_mps).norm(), 1e-3);
 }
@@ -208,7 +208,7 @@ TEST(MotionPipeline, FewerThanThreeStaticPointsIsAStatusNotACrash) {
     scan.radial_velocity_mps[i] = -1.0f;
     scan.valid[i] = 1;
   }
-  const MotionEstimate est = MotionPipeline().process(scan);
+  const MotionEstimate est = MotionPipeline(MotionPipelineParams::preset("fast")).process(scan);
   EXPECT_EQ(est.status, MotionStatus::kTooFewStaticPoints);
   EXPECT_NE(est.message.find("2 static points"), std::string::npos) << est.message;
   EXPECT_FALSE(est.ego.valid);
@@ -221,7 +221,7 @@ TEST(MotionPipeline, NaNVelocityInAValidPixelIsRejectedWithItsPixel) {
   ASSERT_TRUE(frame.scan.valid[i]);
   frame.scan.radial_velocity_mps[i] = std::nanf("");
   try {
-    MotionPipeline().process(frame.scan);
+    MotionPipeline(MotionPipelineParams::preset("fast")).process(frame.scan);
     FAIL() << "expected std::invalid_argument";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("row 100, col 37"), std::string::npos) << e.what();
@@ -232,7 +232,7 @@ TEST(MotionPipeline, MismatchedArraysAreRejected) {
   Scan scan = Scan::make_empty(3, 3);
   scan.radial_velocity_mps.pop_back();
   try {
-    MotionPipeline().process(scan);
+    MotionPipeline(MotionPipelineParams::preset("fast")).process(scan);
     FAIL();
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("'v' has 8 values, expected rows*cols = 9"), std::string::npos) << e.what();
@@ -244,7 +244,7 @@ TEST(MotionPipelineParams, UnknownMethodNamesTheKnownOnes) {
     MotionPipelineParams::preset("magic");
     FAIL();
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("unknown method 'magic' (known: paper, fast)"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("unknown method 'magic' (known: paper, fast, robust)"), std::string::npos);
   }
   MotionPipelineParams bad;
   bad.segmentation.velocity_threshold_mps = -1.0;

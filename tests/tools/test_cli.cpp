@@ -109,6 +109,9 @@ TEST_F(Cli, BadInputGivesOneClearLineAndNonZeroExit) {
       << "5 0 0 1\n5 1 0 3\n5 0 1 5\n5 1 1 7\n";
   r = run("process " + p("nostatic.pcd") + " -o " + p("out2"));
   EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("nostatic.pcd: ego velocity not estimable:"), std::string::npos) << r.output;
+  r = run("process " + p("nostatic.pcd") + " -o " + p("out2b") + " --method fast");
+  EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.output.find("nostatic.pcd: ego velocity not estimable: 1 static points"), std::string::npos) << r.output;
 
   std::ofstream(p("empty.pcd")) << "VERSION 0.7\nFIELDS x y z v\nSIZE 4 4 4 4\nTYPE F F F F\nWIDTH 2\nHEIGHT 2\n"

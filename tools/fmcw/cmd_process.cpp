@@ -18,7 +18,7 @@ namespace {
 struct ProcessOptions {
   std::string input;
   std::string output;
-  std::string method = "fast";
+  std::string method = core::MotionPipelineParams::default_method();
   std::uint64_t seed = 0;
   int threads = 0;
   bool no_clouds = false;

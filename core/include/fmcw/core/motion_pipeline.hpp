@@ -7,6 +7,8 @@
 
 #include "fmcw/core/ceres_velocity.hpp"
 #include "fmcw/core/doppler_segmentation.hpp"
+#include "fmcw/core/ego_twist.hpp"
+#include "fmcw/core/moving_instances.hpp"
 #include "fmcw/core/velocity_lsq.hpp"
 
 namespace fmcw::core {
@@ -25,15 +27,34 @@ struct VelocityParams {
   void validate() const;
 };
 
+/// How static and moving points are told apart.
+enum class MotionApproach {
+  kLargestRegionStatic,  ///< Algorithm 1: Doppler regions, the largest one is static
+  kRobustEgo,            ///< robust ego twist first; moving = points it does not explain
+};
+
 struct MotionPipelineParams {
   std::string method = "fast";  ///< name reported with the results
-  SegmentationParams segmentation;
+  MotionApproach approach = MotionApproach::kLargestRegionStatic;
+  SegmentationParams segmentation;  ///< kLargestRegionStatic
   VelocityParams velocity;
+  EgoTwistParams ego;               ///< kRobustEgo
+  /// kRobustEgo: a point moves when its ego-compensated Doppler |v + e . V_origin| exceeds this
+  /// many standard deviations (sensor noise and the ego estimate's uncertainty along e).
+  double moving_sigma = 4.0;
+  InstanceParams instances;         ///< kRobustEgo
+  /// kRobustEgo: objects move in the horizontal plane of the rig (v_z = 0). A few degrees of
+  /// elevation leave v_z nearly unobservable, and limbs or wheels would leak into it.
+  bool planar_objects = true;
   std::uint64_t seed = 0;  ///< seeds the random subsampling (mixed with the frame index)
   int num_threads = 0;     ///< per-object estimation threads; 0 = OpenMP default, 1 = serial
 
   void validate() const;
 
+  /// "robust": the ego twist (velocity and yaw rate) by MSAC over all points, scored by how
+  /// much of the view its inliers cover, with a standing test and Huber refinement; moving
+  /// points are those the twist does not explain; instances by range and Doppler continuity;
+  /// object velocities in closed form with each head's own origin velocity.
   /// "paper": Algorithm 1 (stack-based region growing) + Algorithm 2 as published: Ceres,
   /// num_th^s = 1000 (the paper gives no figure; 1000 keeps the Ceres ego solve near a
   /// millisecond), num_th^m = 200.
@@ -41,6 +62,8 @@ struct MotionPipelineParams {
   /// closed form on every point, gathered in one pass over the image.
   static MotionPipelineParams preset(const std::string& method);
   static std::vector<std::string> preset_names();
+  /// The project's default method: "robust".
+  static std::string default_method();
 };
 
 struct ClusterEstimate {
@@ -74,6 +97,9 @@ struct MotionEstimate {
   std::vector<std::int32_t> labels;
   int num_static_pixels = 0;
   VelocityEstimate ego;  ///< the rig's velocity in its own frame, from static points (Eq. 21)
+  Eigen::Vector3d ego_angular_velocity_rps = Eigen::Vector3d::Zero();  ///< robust: yaw rate in z
+  bool ego_yaw_rate_estimated = false;
+  bool ego_standing = false;  ///< robust: the zero-velocity test held
   std::vector<ClusterEstimate> clusters;
   StageTiming timing;
 
@@ -86,11 +112,13 @@ std::string to_string(MotionStatus status);
 /// NaN/Inf in valid pixels); a scan with nothing to estimate is a status, not an exception.
 class MotionPipeline {
  public:
-  explicit MotionPipeline(const MotionPipelineParams& params = MotionPipelineParams::preset("fast"));
+  explicit MotionPipeline(const MotionPipelineParams& params = MotionPipelineParams::preset(MotionPipelineParams::default_method()));
   MotionEstimate process(const Scan& scan, std::uint64_t frame_index = 0);
   const MotionPipelineParams& params() const { return params_; }
 
  private:
+  MotionEstimate process_robust(const Scan& scan, std::uint64_t frame_index);
+
   MotionPipelineParams params_;
   DopplerSegmenter segmenter_;
 };

@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace fmcw::core {
@@ -52,6 +53,9 @@ struct Scan {
   int head_of_col(int col) const;
   /// Beam origin of a pixel in the rig frame: the mount point of the head that owns its column.
   Eigen::Vector3d beam_origin(std::size_t i) const;
+
+  /// Column spans that are one connected image: heads joined by stitched seams, [begin, end).
+  std::vector<std::pair<int, int>> connected_column_groups() const;
 
   /// Checks array sizes and head spans. Throws std::invalid_argument naming the field.
   void validate_layout() const;

@@ -86,6 +86,16 @@ void fill_statistics(const NormalEquations& ne, VelocityEstimate& estimate);
 VelocityEstimate solve_normal_equations(const NormalEquations& ne, double qr_condition_threshold,
                                         const std::function<VelocityRows()>& rows_for_qr);
 
+/// Velocity constrained to the horizontal plane (v_z = 0), for road users: only the x and y
+/// columns are solved (2x2 normal equations). Covariance and conditioning are those of the 2x2
+/// problem (the z row and column of the covariance are 0).
+VelocityEstimate solve_velocity_planar(const VelocityRows& rows);
+
+/// solve_velocity_planar made robust to parts that do not move with the body (limbs, wheels):
+/// iteratively reweighted least squares with Tukey's biweight, scale from the median absolute
+/// residual (at least noise_sigma_mps), starting from the plain least-squares solution.
+VelocityEstimate solve_velocity_planar_robust(const VelocityRows& rows, double noise_sigma_mps, int iterations = 8);
+
 /// solve_normal_equations on explicit rows.
 VelocityEstimate solve_velocity_closed_form(const VelocityRows& rows, double qr_condition_threshold = 1e8);
 

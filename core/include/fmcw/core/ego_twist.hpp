@@ -1,0 +1,62 @@
+#pragma once
+// Ego motion from Doppler without trusting "the largest region is static": robust estimation
+// of the rig's velocity and yaw rate over all valid points.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "fmcw/core/scan.hpp"
+#include "fmcw/core/velocity_lsq.hpp"
+
+namespace fmcw::core {
+
+struct EgoTwistParams {
+  double noise_sigma_mps = 0.031;       ///< Doppler noise of the sensor [m/s] (Table I)
+  double inlier_threshold_mps = 0.1;    ///< RANSAC: |residual| below this is an inlier [m/s]
+  int ransac_iterations = 150;          ///< minimal-set hypotheses (each new best is refit on its inliers)
+  int sample_points = 3000;             ///< points RANSAC scores hypotheses on (seeded subset)
+  /// Also estimate the yaw rate: possible when heads sit at different mount points, since each
+  /// head's origin moves at V + omega x r_head. With one mount point it is not observable and
+  /// is left at 0.
+  bool estimate_yaw_rate = true;
+  /// Hypotheses turning faster than this are rejected [rad/s]: with heads at separate mounts a
+  /// wild yaw rate could otherwise give each head its own velocity and stitch a passing truck
+  /// in one head to the static world in another. Road vehicles stay well below 1 rad/s.
+  double max_yaw_rate_rps = 1.5;
+  double huber_k_sigma = 2.0;  ///< refinement: Huber weights beyond k sigma
+  int min_inliers = 20;        ///< fewer static-consistent points: no estimate (not a world)
+  int refine_iterations = 3;
+  /// Standing test: when the zero twist explains the points as well as the best hypothesis
+  /// (coverage and inliers within these fractions), the ego is declared standing.
+  double standing_coverage_fraction = 0.98;
+  std::uint64_t seed = 0;
+
+  void validate() const;
+};
+
+/// The rig's twist: V at the rig origin and omega, rig frame. A static point seen from head k
+/// has Doppler v = -e . (V + omega x r_k), i.e. the row [e, r_k x e] . [V; omega] = -v.
+struct EgoTwistEstimate {
+  VelocityEstimate velocity;                  ///< V, with covariance and conditioning
+  Eigen::Vector3d angular_velocity_rps = Eigen::Vector3d::Zero();
+  double yaw_rate_std_rps = 0.0;              ///< from the covariance; 0 when not estimated
+  bool yaw_rate_estimated = false;            ///< false with one mount point, or if disabled
+  bool standing = false;                      ///< the zero-velocity test held: V = omega = 0
+  int inliers = 0;                            ///< static-consistent points of the final fit
+  double inlier_fraction = 0.0;               ///< of the valid points
+  int coverage_cells = 0;                     ///< image cells holding inliers (of 24 x 6)
+  bool valid = false;
+
+  /// Velocity of a point fixed to the rig at r (rig frame): V + omega x r.
+  Eigen::Vector3d velocity_at(const Eigen::Vector3d& r) const { return velocity.velocity_mps + angular_velocity_rps.cross(r); }
+};
+
+/// MSAC over minimal sets (3 points, or 4 with the yaw rate), each hypothesis scored first by
+/// how many azimuth columns of a coarse 24 x 6 grid over the image hold its inliers (the static
+/// world shows in nearly every azimuth, a bus beside or across the rig in a band of them), then
+/// by how many cells, then by its truncated squared residuals; then Huber IRLS on all valid
+/// points. Seeded: reproducible.
+EgoTwistEstimate estimate_ego_twist(const Scan& scan, const EgoTwistParams& params, std::uint64_t seed);
+
+}  // namespace fmcw::core

@@ -1,0 +1,36 @@
+#pragma once
+// Moving pixels into object instances on the range image.
+
+#include <cstdint>
+#include <vector>
+
+#include "fmcw/core/doppler_segmentation.hpp"
+#include "fmcw/core/scan.hpp"
+
+namespace fmcw::core {
+
+struct InstanceParams {
+  /// Neighbours join when |dr| < max(this, fraction * r) and |dv| < max_doppler_step_mps:
+  /// surfaces seen at grazing angles step by metres from pixel to pixel, while an occluded
+  /// vehicle is usually a vehicle length behind the one in front.
+  double max_range_gap_m = 1.0;        ///< [m]
+  double range_gap_fraction = 0.08;    ///< range-relative part of the gap above
+  double max_doppler_step_mps = 1.0;   ///< [m/s]
+  double touching_gap_m = 0.5;         ///< |dr| below this joins whatever the Doppler (wheels, limbs) [m]
+  int min_cluster_pixels = 3;          ///< smaller groups of moving pixels are labelled static
+  /// Instances smaller than this [pixels] (a roof or side seen edge-on breaks off in strips)
+  /// join an adjacent larger instance whose rigid motion explains their Doppler to within
+  /// fragment_residual_mps (median).
+  int fragment_pixels = 60;
+  double fragment_residual_mps = 0.25;
+
+  void validate() const;
+};
+
+/// Groups the pixels flagged in `moving` (rows * cols) by 8-neighbour continuity in range and
+/// Doppler, across stitched head seams. Labels: kInvalid where no return, kStatic for static
+/// pixels and for groups below min_cluster_pixels, 1..k for instances numbered by their first
+/// pixel in row-major order.
+Segmentation label_moving_instances(const Scan& scan, const std::vector<std::uint8_t>& moving, const InstanceParams& params);
+
+}  // namespace fmcw::core

@@ -1,0 +1,77 @@
+#include "fmcw/core/moving_instances.hpp"
+
+#include <cmath>
+
+#include "fmcw/core/check.hpp"
+
+namespace fmcw::core {
+
+void InstanceParams::validate() const {
+  FMCW_CHECK_ARG(max_range_gap_m > 0.0 && range_gap_fraction >= 0.0 && max_doppler_step_mps > 0.0 && touching_gap_m >= 0.0,
+                 "instances: gaps and steps must be positive");
+  FMCW_CHECK_ARG(min_cluster_pixels >= 1, "instances: min_cluster_pixels must be >= 1, got ", min_cluster_pixels);
+}
+
+Segmentation label_moving_instances(const Scan& scan, const std::vector<std::uint8_t>& moving, const InstanceParams& params) {
+  FMCW_CHECK_ARG(moving.size() == scan.size(), "instances: moving mask has ", moving.size(), " values, expected ", scan.size());
+  Segmentation out;
+  out.labels.assign(scan.size(), Segmentation::kInvalid);
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (scan.valid[i]) out.labels[i] = Segmentation::kStatic;
+  }
+  // Column group of each column, for neighbours across stitched seams only.
+  std::vector<int> group_of(static_cast<std::size_t>(scan.cols), 0);
+  const auto groups = scan.connected_column_groups();
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    for (int c = groups[g].first; c < groups[g].second; ++c) group_of[static_cast<std::size_t>(c)] = static_cast<int>(g);
+  }
+  const auto joins = [&](std::size_t a, std::size_t b) {
+    const double ra = scan.range_m[a], rb = scan.range_m[b];
+    const double dr = std::abs(ra - rb);
+    if (dr < params.touching_gap_m) return true;
+    const double gap = std::max(params.max_range_gap_m, params.range_gap_fraction * std::min(ra, rb));
+    return dr < gap && std::abs(scan.radial_velocity_mps[a] - scan.radial_velocity_mps[b]) < params.max_doppler_step_mps;
+  };
+  constexpr std::int32_t kPending = -3;
+  std::vector<std::int32_t> region(scan.size(), -1);
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (scan.valid[i] && moving[i]) region[i] = kPending;
+  }
+  std::vector<std::uint32_t> members;
+  std::vector<std::uint32_t> stack;
+  std::int32_t next = 0;
+  for (std::size_t seed = 0; seed < scan.size(); ++seed) {
+    if (region[seed] != kPending) continue;
+    members.clear();
+    stack.assign(1, static_cast<std::uint32_t>(seed));
+    region[seed] = next;
+    while (!stack.empty()) {
+      const std::uint32_t q = stack.back();
+      stack.pop_back();
+      members.push_back(q);
+      const int r = static_cast<int>(q / static_cast<std::uint32_t>(scan.cols));
+      const int c = static_cast<int>(q % static_cast<std::uint32_t>(scan.cols));
+      for (int dr = -1; dr <= 1; ++dr) {
+        for (int dc = -1; dc <= 1; ++dc) {
+          const int rr = r + dr, cc = c + dc;
+          if ((dr == 0 && dc == 0) || rr < 0 || rr >= scan.rows || cc < 0 || cc >= scan.cols) continue;
+          if (group_of[static_cast<std::size_t>(cc)] != group_of[static_cast<std::size_t>(c)]) continue;
+          const std::size_t nq = scan.index(rr, cc);
+          if (region[nq] != kPending || !joins(q, nq)) continue;
+          region[nq] = next;
+          stack.push_back(static_cast<std::uint32_t>(nq));
+        }
+      }
+    }
+    ++next;
+    if (static_cast<int>(members.size()) < params.min_cluster_pixels) continue;  // left static
+    out.cluster_sizes.push_back(static_cast<std::uint32_t>(members.size()));
+    const auto label = static_cast<std::int32_t>(out.cluster_sizes.size());
+    for (const std::uint32_t m : members) out.labels[m] = label;
+  }
+  out.num_regions = static_cast<std::uint32_t>(next) + 1;
+  for (const auto l : out.labels) out.static_pixels += l == Segmentation::kStatic ? 1u : 0u;
+  return out;
+}
+
+}  // namespace fmcw::core

@@ -1,0 +1,155 @@
+// The robust method on analytic scans: ego twist with yaw rate, standing test, a vehicle that
+// fills most of the view, instances, and object velocities robust to limbs.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "fmcw/core/motion_pipeline.hpp"
+#include "fmcw/core/random.hpp"
+#include "fmcw/core/synthetic_scan.hpp"
+#include "scenes.hpp"
+
+namespace fmcw::core {
+namespace {
+
+MotionEstimate robust(const Scan& scan) { return MotionPipeline(MotionPipelineParams::preset("robust")).process(scan); }
+
+TEST(EgoTwist, RecoversVelocityAndYawRateFromHeadsAtDifferentMounts) {
+  SyntheticSceneParams p = fmcw::test::static_courtyard();
+  p.ego_velocity_mps = {9.0, 0.3, 0.0};
+  p.ego_angular_velocity_rps = {0.0, 0.0, 0.4};  // turning at 23 deg/s
+  const Frame exact = render_synthetic_scan(p);
+  const EgoTwistEstimate t = estimate_ego_twist(exact.scan, EgoTwistParams{}, 1);
+  ASSERT_TRUE(t.valid);
+  ASSERT_TRUE(t.yaw_rate_estimated);
+  EXPECT_LT((t.velocity.velocity_mps - p.ego_velocity_mps).norm(), 1e-4);
+  EXPECT_NEAR(t.angular_velocity_rps.z(), 0.4, 1e-4);
+  EXPECT_FALSE(t.standing);
+  // At Table I noise the yaw rate stays within 0.5 deg/s, and its reported sigma is honest.
+  p.velocity_noise_mps = 0.031;
+  p.range_noise_m = 0.025;
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    p.seed = seed;
+    const EgoTwistEstimate n = estimate_ego_twist(render_synthetic_scan(p).scan, EgoTwistParams{}, seed);
+    EXPECT_LT(std::abs(n.angular_velocity_rps.z() - 0.4) * 180.0 / M_PI, 0.5) << "seed " << seed;
+    EXPECT_LT(std::abs(n.angular_velocity_rps.z() - 0.4), 5.0 * n.yaw_rate_std_rps + 1e-4);
+    EXPECT_LT(std::abs(n.velocity.velocity_mps.y() - 0.3), 0.01);
+  }
+  // The paper's model (one velocity for every head) cannot fit the turning rig.
+  const MotionEstimate paper = MotionPipeline(MotionPipelineParams::preset("fast")).process(exact.scan);
+  EXPECT_GT((paper.ego.velocity_mps - p.ego_velocity_mps).norm(), 0.05);
+}
+
+TEST(EgoTwist, StandingRigIsDetectedAndReportsExactlyZero) {
+  SyntheticSceneParams p = fmcw::test::static_courtyard();
+  SyntheticBox car;
+  car.center_m = {15.0, 3.0, 0.75};
+  car.half_extent_m = {2.25, 0.9, 0.75};
+  car.velocity_mps = {-7.0, 0.0, 0.0};
+  p.actors = {car};
+  p.velocity_noise_mps = 0.031;
+  p.range_noise_m = 0.025;
+  p.seed = 4;
+  const MotionEstimate est = robust(render_synthetic_scan(p).scan);
+  ASSERT_TRUE(est.ok());
+  EXPECT_TRUE(est.ego_standing);
+  EXPECT_EQ(est.ego.velocity_mps, Eigen::Vector3d::Zero());
+  ASSERT_EQ(est.clusters.size(), 1u);
+  EXPECT_NEAR(est.clusters[0].velocity.velocity_mps.x(), -7.0, 0.05);
+}
+
+TEST(RobustMethod, VehicleFillingMostOfTheViewDoesNotFoolTheEgoEstimate) {
+  // A bus overtakes close beside the rig and fills more of the image than the static world: the
+  // paper's "largest region is static" takes the bus for the world; MSAC scored by the azimuths
+  // its inliers cover does not (the world still shows across the rest of the view).
+  SyntheticSceneParams p;  // a street: ground, 10 m buildings on both sides and ahead, sky above
+  for (const auto& [center, half] : {std::pair<Eigen::Vector3d, Eigen::Vector3d>{{61, 0, 5}, {1, 80, 5}},
+                                     {{0, 26, 5}, {80, 1, 5}},
+                                     {{0, -26, 5}, {80, 1, 5}}}) {
+    SyntheticBox wall;
+    wall.center_m = center;
+    wall.half_extent_m = half;
+    p.static_boxes.push_back(wall);
+  }
+  p.ego_velocity_mps = {5.0, 0.0, 0.0};
+  SyntheticBox bus;  // a truck and trailer, 28 m long, 4 m tall, 1.1 m to the left of the rig
+  bus.center_m = {11.0, 2.3, 2.0};
+  bus.half_extent_m = {14.0, 1.2, 2.0};
+  bus.velocity_mps = {10.0, 0.0, 0.0};
+  p.actors = {bus};
+  p.velocity_noise_mps = 0.031;
+  p.range_noise_m = 0.025;
+  p.seed = 2;
+  const Frame frame = render_synthetic_scan(p);
+  std::size_t bus_pixels = 0, valid = 0;
+  for (std::size_t i = 0; i < frame.scan.size(); ++i) {
+    valid += frame.scan.valid[i];
+    bus_pixels += frame.truth->instance[i] == 1;
+  }
+  ASSERT_GT(bus_pixels, valid / 2) << "the bus must fill most of the view for this test";
+  const MotionEstimate paper = MotionPipeline(MotionPipelineParams::preset("fast")).process(frame.scan);
+  EXPECT_GT((paper.ego.velocity_mps - p.ego_velocity_mps).norm(), 1.0) << "the paper's method is fooled";
+  const MotionEstimate est = robust(frame.scan);
+  EXPECT_LT((est.ego.velocity_mps - p.ego_velocity_mps).norm(), 0.02);
+  int bus_labelled_moving = 0;
+  for (std::size_t i = 0; i < frame.scan.size(); ++i) bus_labelled_moving += frame.truth->instance[i] == 1 && est.labels[i] > 0;
+  EXPECT_GT(bus_labelled_moving, static_cast<int>(0.95 * static_cast<double>(bus_pixels)));
+}
+
+TEST(RobustMethod, CarsSideBySideAtOneSpeedAreTwoInstancesAndATouchingPartStaysWithItsBody) {
+  SyntheticSceneParams p = fmcw::test::static_courtyard();
+  // Van-height boxes: their roofs are above the sensors (a roof seen edge-on from just above
+  // breaks into strips metres apart in range, a separate matter).
+  SyntheticBox a;
+  a.center_m = {18.0, -1.6, 0.95};
+  a.half_extent_m = {2.25, 0.9, 0.95};
+  a.velocity_mps = {-8.0, 0.0, 0.0};
+  SyntheticBox b = a;
+  b.center_m = {21.0, 2.0, 0.95};  // same speed, beside and behind: a range step between them
+  // A "wheel" on car a: touching its side, moving differently (Doppler differs from the body's).
+  SyntheticBox wheel;
+  wheel.center_m = {17.0, -0.72, 0.35};  // 3 cm proud of the body's side
+  wheel.half_extent_m = {0.35, 0.05, 0.35};
+  wheel.velocity_mps = {-3.0, 0.0, 0.0};
+  p.actors = {a, b, wheel};
+  const Frame frame = render_synthetic_scan(p);
+  const MotionEstimate est = robust(frame.scan);
+  std::map<std::uint32_t, std::set<std::int32_t>> labels;
+  for (std::size_t i = 0; i < frame.scan.size(); ++i) {
+    if (frame.truth->instance[i] != 0 && frame.scan.valid[i]) labels[frame.truth->instance[i]].insert(est.labels[i]);
+  }
+  ASSERT_EQ(labels[1].size(), 1u);
+  ASSERT_EQ(labels[2].size(), 1u);
+  EXPECT_NE(*labels[1].begin(), *labels[2].begin()) << "two cars at one speed are two objects";
+  EXPECT_GT(*labels[1].begin(), 0);
+  ASSERT_FALSE(labels[3].empty()) << "the wheel must be visible for this test";
+  EXPECT_EQ(labels[3], labels[1]) << "the wheel belongs to its car";
+}
+
+TEST(PlanarRobustVelocity, TorsoOutvotesSwingingLimbs) {
+  // 300 points of a body moving at (1.2, -0.8); 30 % of them (limbs) move 2.5 m/s faster or
+  // slower along x. Plain least squares is pulled off; the biweight fit is not.
+  Rng rng(3);
+  VelocityRows rows;
+  const Eigen::Vector2d body(1.2, -0.8);
+  for (int k = 0; k < 300; ++k) {
+    const double az = -0.4 + 0.8 * rng.uniform();
+    const double el = -0.05 + 0.1 * rng.uniform();
+    const Eigen::Vector3d e(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+    Eigen::Vector2d v = body;
+    if (k % 10 < 3) v.x() += (k % 2 ? 2.5 : -1.5);
+    rows.directions.push_back(e);
+    rows.targets_mps.push_back(e.head<2>().dot(v) + 0.031 * rng.normal());
+  }
+  const VelocityEstimate plain = solve_velocity_planar(rows);
+  const VelocityEstimate fit = solve_velocity_planar_robust(rows, 0.031);
+  EXPECT_GT((plain.velocity_mps.head<2>() - body).norm(), 0.1);
+  EXPECT_LT((fit.velocity_mps.head<2>() - body).norm(), 0.03);
+  EXPECT_EQ(fit.velocity_mps.z(), 0.0);
+}
+
+}  // namespace
+}  // namespace fmcw::core
