@@ -1,15 +1,12 @@
 #!/usr/bin/env bash
-# The main job: set up, build, make a scan, run the motion core on it, write the report.
-# Until the simulator lands, the scan is the analytic street scene of `fmcw synth`.
+# The main job: set up, build, simulate the paper's intersection scenario (135 scans), run every
+# motion method on it, compare with the ground truth, and write the report to out/main/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 bash scripts/build.sh
 out=${1:-out/main}
+scenario=${2:-scenarios/intersection.yaml}
 mkdir -p "$out"
-build/bin/fmcw synth -o "$out/frame.pcd" --objects 20 --seed 1
-for method in paper fast; do
-  build/bin/fmcw process "$out/frame.pcd" -o "$out/$method" --method "$method"
-done
-build/bin/fmcw bench --json > "$out/bench.json"
-echo "main job: report in $out/ (paper/ and fast/: ego.csv, objects.csv, results.json; bench.json)"
+build/bin/fmcw run "$scenario" -o "$out" --overwrite
+echo "main job: report in $out/report.html (metrics.json, frames.csv, objects.csv, figures; dataset in $out/dataset)"

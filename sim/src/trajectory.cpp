@@ -296,7 +296,7 @@ class WaypointTrajectory final : public Trajectory {
   MotionState state(double t_s) const override {
     check_time(t_s);
     const double tau = t_s - start_time_s_;
-    if (tau <= 0.0) return rest_at_start_;
+    if (tau < 0.0) return rest_at_start_;  // at the start time itself the body already moves
     if (tau >= span_begin_s_.back()) return rest_at_end_;
 
     // span_begin_s_ holds the entry time of every span and, last, the arrival time.

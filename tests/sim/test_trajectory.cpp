@@ -579,13 +579,18 @@ TEST(WaypointTrajectory, WaitsBeforeStartAndRestsAfterEnd) {
   path.start_time_s = 3.0;
   const auto trajectory = make_waypoint_trajectory(path);
   const double initial_heading = heading_of(trajectory->state(3.0 + 1e-7));
-  for (double t : {-100.0, 0.0, 2.999, 3.0}) {
+  for (double t : {-100.0, 0.0, 2.999}) {
     const MotionState state = trajectory->state(t);
     EXPECT_EQ(state.T_world_body.translation(), path.points_m.front()) << "t = " << t;
     EXPECT_TRUE(at_rest(state));
     EXPECT_NEAR(heading_of(state), initial_heading, 1e-6);
     EXPECT_NEAR(state.T_world_body.linear()(2, 2), 1.0, 1e-15);
   }
+  // At the start time itself the body is at the first point and already moving, so that a
+  // path starting at t = 0 shows its speed in the first frame.
+  const MotionState start = trajectory->state(3.0);
+  EXPECT_LT((start.T_world_body.translation() - path.points_m.front()).norm(), 1e-12);
+  EXPECT_FALSE(at_rest(start));
   EXPECT_FALSE(at_rest(trajectory->state(3.001)));
 
   const double end = arrival_time(*trajectory, 4.0, 1000.0);

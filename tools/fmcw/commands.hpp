@@ -13,5 +13,8 @@ Action add_process_command(CLI::App& app);
 Action add_synth_command(CLI::App& app);
 Action add_bench_command(CLI::App& app);
 Action add_simulate_command(CLI::App& app);
+Action add_evaluate_command(CLI::App& app);
+Action add_run_command(CLI::App& app);
+Action add_study_command(CLI::App& app);
 
 }  // namespace fmcw::cli

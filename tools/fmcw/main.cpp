@@ -19,6 +19,9 @@ int main(int argc, char** argv) {
   reg(fmcw::cli::add_process_command);
   reg(fmcw::cli::add_synth_command);
   reg(fmcw::cli::add_bench_command);
+  reg(fmcw::cli::add_evaluate_command);
+  reg(fmcw::cli::add_run_command);
+  reg(fmcw::cli::add_study_command);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -61,7 +61,8 @@ struct WaypointPath {
   /// at rest, with continuous velocity.
   std::vector<double> speeds_mps;
   double start_time_s = 0.0;  ///< before this, the body waits at the first point
-  // After the end of the path the body stays at the last point, at rest.
+  // From start_time_s on it moves (at the first speed); after the end of the path it stays at
+  // the last point, at rest.
 };
 
 /// Follows a smooth curve through the waypoints (C1 at least: no heading jumps), heading along

@@ -1,0 +1,73 @@
+#pragma once
+// Where evaluated frames come from: a dataset on disk (written by `fmcw simulate`), or a
+// scenario simulated in memory. Either way frames are produced one at a time, never all at once.
+
+#include <cstddef>
+#include <memory>
+#include <string>
+
+#include "fmcw/core/ground_truth.hpp"
+#include "fmcw/sim/lidar_simulator.hpp"
+#include "fmcw/sim/scenario.hpp"
+
+namespace fmcw::eval {
+
+/// What a report says about where its frames came from.
+struct SourceInfo {
+  std::string scenario;        ///< scenario name
+  std::string path;            ///< dataset folder or scenario file
+  double rate_hz = 10.0;       ///< frame rate [Hz]
+  std::uint64_t seed = 0;      ///< simulation noise seed
+  std::string config_yaml;     ///< the resolved scenario as YAML (the exact config of the run)
+};
+
+class FrameSource {
+ public:
+  virtual ~FrameSource() = default;
+  virtual std::size_t size() const = 0;
+  /// Frame k with per-pixel truth (Frame::truth) and frame truth (Frame::frame_truth).
+  virtual core::Frame frame(std::size_t k) = 0;
+  /// Names frame k in error messages (its file, or "scenario.yaml frame k").
+  virtual std::string describe(std::size_t k) const = 0;
+  virtual const SourceInfo& info() const = 0;
+};
+
+/// A dataset folder: DIR/dataset.yaml (complete: true), DIR/frames/NNNNNN.pcd for frames
+/// 0..n-1, DIR/ego.csv and DIR/objects.csv with n frames. The constructor checks all of that
+/// and throws std::invalid_argument naming the file at fault; frame(k) reads one PCD and
+/// throws naming it when it is truncated or lacks ground truth. max_frames > 0 keeps the first
+/// max_frames frames.
+class DatasetSource : public FrameSource {
+ public:
+  explicit DatasetSource(const std::string& dir, int max_frames = 0);
+  std::size_t size() const override { return files_.size(); }
+  core::Frame frame(std::size_t k) override;
+  std::string describe(std::size_t k) const override { return files_.at(k); }
+  const SourceInfo& info() const override { return info_; }
+
+ private:
+  SourceInfo info_;
+  std::vector<std::string> files_;
+  std::vector<core::FrameTruth> truth_;
+};
+
+/// A scenario simulated frame by frame in memory (for studies: nothing is written to disk).
+class ScenarioSource : public FrameSource {
+ public:
+  /// frames: 0 = the scenario's count; seed applies when override_seed.
+  ScenarioSource(const std::string& scenario_file, int frames = 0, bool override_seed = false, std::uint64_t seed = 0);
+  std::size_t size() const override { return static_cast<std::size_t>(loaded_.scenario.frames); }
+  core::Frame frame(std::size_t k) override;
+  std::string describe(std::size_t k) const override;
+  const SourceInfo& info() const override { return info_; }
+
+ private:
+  sim::LoadedScenario loaded_;
+  SourceInfo info_;
+  std::unique_ptr<sim::LidarSimulator> simulator_;
+};
+
+/// A DatasetSource for a folder, a ScenarioSource for a .yaml/.yml file.
+std::unique_ptr<FrameSource> open_frame_source(const std::string& path, int max_frames = 0);
+
+}  // namespace fmcw::eval

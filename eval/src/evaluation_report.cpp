@@ -1,0 +1,244 @@
+#include "fmcw/eval/evaluation_report.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "fmcw/eval/table_writer.hpp"
+#include "fmcw/io/atomic_file.hpp"
+
+namespace fmcw::eval {
+
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
+
+namespace {
+json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+json vec(const Eigen::Vector3d& v) { return json::array({number(v.x()), number(v.y()), number(v.z())}); }
+json timing(const core::StageTiming& t) {
+  return {{"clustering", number(t.clustering_ms)},
+          {"ego", number(t.ego_ms)},
+          {"objects", number(t.objects_ms)},
+          {"total", number(t.total_ms)}};
+}
+
+json method_json(const MethodSummary& s, const std::vector<TargetCheck>& checks) {
+  json targets = json::array();
+  bool all_met = true;
+  for (const TargetCheck& c : checks) {
+    targets.push_back(
+        {{"key", c.key}, {"relation", c.relation}, {"value", number(c.value)}, {"limit", c.limit}, {"met", c.met}});
+    all_met = all_met && c.met;
+  }
+  return {
+      {"frames", s.frames},
+      {"frames_not_ok", s.frames_not_ok},
+      {"motion",
+       {{"precision", number(s.motion.precision())},
+        {"recall", number(s.motion.recall())},
+        {"accuracy", number(s.motion.accuracy())},
+        {"tp", s.motion.tp},
+        {"fp", s.motion.fp},
+        {"tn", s.motion.tn},
+        {"fn", s.motion.fn}}},
+      {"ego_velocity",
+       {{"rmse_mps", vec(s.ego_rmse_mps)},
+        {"max_abs_mps", vec(s.ego_max_abs_mps)},
+        {"rmse_at_heads_mps", vec(s.ego_rmse_at_heads_mps)},
+        {"frames", s.ego_frames}}},
+      {"objects",
+       {{"evaluated", s.objects_evaluated},
+        {"detected", s.objects_detected},
+        {"estimated", s.objects_estimated},
+        {"large", s.objects_large},
+        {"detected_fraction", number(s.detected_fraction)},
+        {"median_error_mps", number(s.median_error_mps)},
+        {"median_error_mps_ge200", number(s.median_error_mps_ge200)},
+        {"p90_error_mps_ge200", number(s.p90_error_mps_ge200)},
+        {"median_reference_error_mps", number(s.median_reference_error_mps)},
+        {"median_reference_error_mps_ge200", number(s.median_reference_error_mps_ge200)}}},
+      {"timing_ms", timing(s.mean_timing_ms)},
+      {"timing_max_ms", timing(s.max_timing_ms)},
+      {"targets", targets},
+      {"targets_met", all_met},
+  };
+}
+
+void write_frames(const std::string& path, const EvaluationResult& r) {
+  CsvTable t({"frame", "method", "stamp_s", "status", "valid_pixels", "truth_moving", "predicted_moving", "tp", "fp",
+              "tn", "fn", "precision", "recall", "accuracy", "clusters", "static_pixels", "ego_valid", "ego_vx_mps",
+              "ego_vy_mps", "ego_vz_mps", "true_vx_mps", "true_vy_mps", "true_vz_mps", "err_x_mps", "err_y_mps",
+              "err_z_mps", "err_heads_x_mps", "err_heads_y_mps", "err_heads_z_mps", "clustering_ms", "ego_ms",
+              "objects_ms", "total_ms"});
+  for (std::size_t k = 0; k < static_cast<std::size_t>(r.dataset.frames); ++k) {
+    for (const auto& frames : r.frames) {
+      const FrameEvaluation& f = frames[k];
+      t.add(static_cast<std::uint64_t>(f.frame)).add(f.method).add(f.stamp_s).add(core::to_string(f.status));
+      t.add(f.motion.total()).add(f.motion.truth_moving()).add(f.motion.predicted_moving());
+      t.add(f.motion.tp).add(f.motion.fp).add(f.motion.tn).add(f.motion.fn);
+      t.add(f.motion.precision()).add(f.motion.recall()).add(f.motion.accuracy());
+      t.add(f.num_clusters).add(f.static_pixels).add(f.ego_valid);
+      t.add(f.ego_estimate_mps).add(f.ego_truth_mps).add(f.ego_error_mps()).add(f.ego_error_at_heads_mps());
+      t.add(f.timing.clustering_ms).add(f.timing.ego_ms).add(f.timing.objects_ms).add(f.timing.total_ms);
+      t.end_row();
+    }
+  }
+  t.write(path);
+}
+
+void write_objects(const std::string& path, const EvaluationResult& r) {
+  CsvTable t({"frame", "method", "actor", "class", "pixels", "moving_pixels", "distance_m", "evaluated", "detected",
+              "estimate_valid", "cluster", "pixels_in_cluster", "cluster_pixels", "est_vx_mps", "est_vy_mps",
+              "est_vz_mps", "true_vx_mps", "true_vy_mps", "true_vz_mps", "ref_vx_mps", "ref_vy_mps", "ref_vz_mps",
+              "err_x_mps", "err_y_mps", "err_z_mps", "err_mps", "ref_err_mps"});
+  for (std::size_t k = 0; k < static_cast<std::size_t>(r.dataset.frames); ++k) {
+    for (const auto& frames : r.frames) {
+      const FrameEvaluation& f = frames[k];
+      for (const ObjectMatch& m : f.objects) {
+        t.add(static_cast<std::uint64_t>(f.frame)).add(f.method).add(m.actor_id).add(m.class_name);
+        t.add(m.pixels).add(m.moving_pixels).add(m.distance_m).add(m.evaluated).add(m.detected).add(m.estimate_valid);
+        t.add(m.cluster).add(m.pixels_in_cluster).add(m.cluster_pixels);
+        t.add(m.estimate_mps).add(m.truth_mean_mps).add(m.reference_mps).add(m.error_mps());
+        t.add(m.error_mps().norm()).add(m.reference_error_mps().norm());
+        t.end_row();
+      }
+    }
+  }
+  t.write(path);
+}
+
+void write_snapshot(const std::string& dir, const EvaluationResult& r) {
+  const Snapshot& s = r.snapshot;
+  const core::Scan& scan = s.frame.scan;
+  std::vector<std::string> columns = {"row", "col", "valid", "x_m", "y_m", "z_m", "v_mps", "gt_v_mps", "instance",
+                                      "moving"};
+  for (const std::string& m : r.methods) columns.push_back("label_" + m);
+  CsvTable px(columns);
+  if (s.frame.truth) {
+    const core::PixelGroundTruth& gt = *s.frame.truth;
+    for (int row = 0; row < scan.rows; ++row) {
+      for (int col = 0; col < scan.cols; ++col) {
+        const std::size_t i = scan.index(row, col);
+        px.add(row).add(col).add(scan.valid[i] != 0);
+        px.add(static_cast<double>(scan.x_m[i])).add(static_cast<double>(scan.y_m[i]));
+        px.add(static_cast<double>(scan.z_m[i])).add(static_cast<double>(scan.radial_velocity_mps[i]));
+        px.add(static_cast<double>(gt.radial_velocity_mps[i])).add(gt.instance[i]).add(gt.moving[i] != 0);
+        for (const core::MotionEstimate& e : s.estimates) px.add(e.labels[i]);
+        px.end_row();
+      }
+    }
+  }
+  px.write((fs::path(dir) / EvaluationFiles::kSnapshotPixels).string());
+
+  CsvTable cl({"method", "cluster", "pixels", "centroid_x_m", "centroid_y_m", "centroid_z_m", "vx_mps", "vy_mps",
+               "vz_mps", "valid"});
+  for (const core::MotionEstimate& e : s.estimates) {
+    for (const core::ClusterEstimate& c : e.clusters) {
+      cl.add(e.method).add(c.id).add(c.num_pixels).add(c.centroid_m).add(c.velocity.velocity_mps).add(c.velocity.valid);
+      cl.end_row();
+    }
+  }
+  cl.write((fs::path(dir) / EvaluationFiles::kSnapshotClusters).string());
+
+  CsvTable ac({"actor", "class", "x_m", "y_m", "z_m", "vx_mps", "vy_mps", "vz_mps", "pixels"});
+  if (s.frame.frame_truth) {
+    for (const core::ActorTruth& a : s.frame.frame_truth->actors) {
+      ac.add(a.id).add(a.class_name).add(a.position_rig_m).add(a.velocity_rig_mps).add(a.pixels);
+      ac.end_row();
+    }
+  }
+  ac.write((fs::path(dir) / EvaluationFiles::kSnapshotActors).string());
+}
+}  // namespace
+
+std::string metrics_json(const EvaluationResult& r, const std::string& tool_version) {
+  json methods = json::object();
+  for (std::size_t m = 0; m < r.methods.size(); ++m) methods[r.methods[m]] = method_json(r.summaries[m], r.checks[m]);
+  const Targets& t = r.params.targets;
+  const DatasetStats& d = r.dataset;
+  json out = {
+      {"kind", "evaluation"},
+      {"format_version", 1},
+      {"tool_version", tool_version},
+      {"scenario", r.source.scenario},
+      {"frames", d.frames},
+      {"default_method", r.params.default_method},
+      {"method_order", r.methods},
+      {"methods", methods},
+      {"dataset",
+       {{"path", r.source.path},
+        {"scans", d.frames},
+        {"valid_points", d.valid_points},
+        {"motion_points", d.motion_points},
+        {"duration_s", d.duration_s},
+        {"rate_hz", r.source.rate_hz},
+        {"ego_status", d.ego_moving ? "moving" : "stationary"},
+        {"max_ego_speed_mps", d.max_ego_speed_mps},
+        {"mean_ego_speed_mps", d.mean_ego_speed_mps},
+        {"actors_seen", d.actors_seen},
+        {"seed", r.source.seed}}},
+      {"targets",
+       {{"min_accuracy", t.min_accuracy},
+        {"max_ego_rmse_mps", vec(t.max_ego_rmse_mps)},
+        {"max_median_error_ge200_mps", t.max_median_error_large_mps},
+        {"large_object_pixels", r.params.summary.large_object_pixels},
+        {"min_moving_pixels", r.params.objects.min_moving_pixels}}},
+      {"snapshot_frame", r.snapshot.frame_index},
+      {"config", {{"method_seed", r.params.seed}, {"num_threads", r.params.num_threads}, {"scenario_yaml", r.source.config_yaml}}},
+      {"files",
+       {{"frames", EvaluationFiles::kFrames},
+        {"objects", EvaluationFiles::kObjects},
+        {"snapshot_pixels", EvaluationFiles::kSnapshotPixels},
+        {"snapshot_clusters", EvaluationFiles::kSnapshotClusters},
+        {"snapshot_actors", EvaluationFiles::kSnapshotActors}}},
+  };
+  return out.dump(2) + "\n";
+}
+
+void write_evaluation_report(const std::string& dir, const EvaluationResult& r, const std::string& tool_version) {
+  io::ensure_writable_directory(dir);
+  const fs::path d(dir);
+  write_frames((d / EvaluationFiles::kFrames).string(), r);
+  write_objects((d / EvaluationFiles::kObjects).string(), r);
+  write_snapshot(dir, r);
+  write_text_atomically((d / EvaluationFiles::kMetrics).string(), metrics_json(r, tool_version));
+}
+
+std::string summary_text(const EvaluationResult& r) {
+  std::ostringstream out;
+  out << std::fixed;
+  out << r.source.scenario << ": " << r.dataset.frames << " frames, " << r.dataset.motion_points
+      << " truly moving points, ego " << (r.dataset.ego_moving ? "moving" : "stationary") << "\n";
+  for (std::size_t m = 0; m < r.methods.size(); ++m) {
+    const MethodSummary& s = r.summaries[m];
+    out << "  " << std::left << std::setw(6) << r.methods[m] << std::right << std::setprecision(4)
+        << " accuracy " << s.motion.accuracy() << "  precision " << s.motion.precision() << "  recall "
+        << s.motion.recall() << std::setprecision(4) << "  ego RMSE (" << s.ego_rmse_mps.x() << ", "
+        << s.ego_rmse_mps.y() << ", " << s.ego_rmse_mps.z() << ") m/s  object median error >=200 px "
+        << std::setprecision(3) << s.median_error_mps_ge200 << " m/s  (" << s.objects_large << " of "
+        << s.objects_evaluated << ")  " << std::setprecision(2) << s.mean_timing_ms.total_ms << " ms/frame\n";
+    std::string missed;
+    for (const TargetCheck& c : r.checks[m]) {
+      if (c.met) continue;
+      std::ostringstream one;
+      one << c.key << " " << std::setprecision(4) << c.value << " (target " << c.relation << " " << c.limit << ")";
+      missed += (missed.empty() ? "" : "; ") + one.str();
+    }
+    out << "         targets: " << (missed.empty() ? "all met" : "missed " + missed) << "\n";
+  }
+  return out.str();
+}
+
+EvaluationResult evaluate_to_report(FrameSource& source, const EvaluationParams& params, const ReportOptions& options,
+                                    const ProgressFn& progress, std::ostream* summary) {
+  io::ensure_writable_directory(options.dir);
+  EvaluationResult result = evaluate(source, params, progress);
+  write_evaluation_report(options.dir, result, options.tool_version);
+  if (summary != nullptr) *summary << summary_text(result) << std::flush;
+  if (options.figures) run_report_script(options.script, options.dir);
+  return result;
+}
+
+}  // namespace fmcw::eval

@@ -1,0 +1,97 @@
+#include "fmcw/eval/run_summary.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "fmcw/core/check.hpp"
+#include "fmcw/eval/statistics.hpp"
+
+namespace fmcw::eval {
+
+void SummaryParams::validate() const {
+  FMCW_CHECK_ARG(large_object_pixels >= 1, "summary: large_object_pixels must be >= 1, got ", large_object_pixels);
+}
+
+namespace {
+void add_timing(core::StageTiming& sum, core::StageTiming& max, const core::StageTiming& t) {
+  sum.clustering_ms += t.clustering_ms;
+  sum.ego_ms += t.ego_ms;
+  sum.objects_ms += t.objects_ms;
+  sum.total_ms += t.total_ms;
+  max.clustering_ms = std::max(max.clustering_ms, t.clustering_ms);
+  max.ego_ms = std::max(max.ego_ms, t.ego_ms);
+  max.objects_ms = std::max(max.objects_ms, t.objects_ms);
+  max.total_ms = std::max(max.total_ms, t.total_ms);
+}
+}  // namespace
+
+MethodSummary summarize(const std::vector<FrameEvaluation>& frames, const SummaryParams& params) {
+  params.validate();
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  MethodSummary s;
+  if (!frames.empty()) s.method = frames.front().method;
+  s.frames = static_cast<int>(frames.size());
+  AxisErrorStats ego, ego_heads;
+  std::vector<double> errors, errors_large, ref_errors, ref_errors_large;
+  core::StageTiming sum;
+  for (const FrameEvaluation& f : frames) {
+    FMCW_CHECK_ARG(f.method == s.method, "summarize: frame ", f.frame, " is method '", f.method, "', expected '",
+                   s.method, "'");
+    if (f.status != core::MotionStatus::kOk) ++s.frames_not_ok;
+    s.motion += f.motion;
+    if (f.ego_valid) {
+      ego.add(f.ego_error_mps());
+      ego_heads.add(f.ego_error_at_heads_mps());
+    }
+    for (const ObjectMatch& m : f.objects) {
+      if (!m.evaluated) continue;
+      ++s.objects_evaluated;
+      if (m.detected) ++s.objects_detected;
+      if (!m.estimate_valid) continue;
+      ++s.objects_estimated;
+      const bool large = m.pixels >= params.large_object_pixels;
+      errors.push_back(m.error_mps().norm());
+      ref_errors.push_back(m.reference_error_mps().norm());
+      if (large) {
+        ++s.objects_large;
+        errors_large.push_back(errors.back());
+        ref_errors_large.push_back(ref_errors.back());
+      }
+    }
+    add_timing(sum, s.max_timing_ms, f.timing);
+  }
+  s.ego_frames = ego.count;
+  s.ego_rmse_mps = ego.rmse();
+  s.ego_max_abs_mps = ego.max_abs_or_nan();
+  s.ego_rmse_at_heads_mps = ego_heads.rmse();
+  s.detected_fraction = s.objects_evaluated == 0
+                            ? kNaN
+                            : static_cast<double>(s.objects_detected) / static_cast<double>(s.objects_evaluated);
+  s.median_error_mps = median(errors);
+  s.median_error_mps_ge200 = median(errors_large);
+  s.p90_error_mps_ge200 = quantile(errors_large, 0.9);
+  s.median_reference_error_mps = median(ref_errors);
+  s.median_reference_error_mps_ge200 = median(ref_errors_large);
+  const double n = frames.empty() ? kNaN : static_cast<double>(frames.size());
+  s.mean_timing_ms = {sum.clustering_ms / n, sum.ego_ms / n, sum.objects_ms / n, sum.total_ms / n};
+  return s;
+}
+
+std::vector<TargetCheck> check_targets(const MethodSummary& s, const Targets& t) {
+  std::vector<TargetCheck> out;
+  const auto at_least = [&](const char* key, double value, double limit) {
+    out.push_back({key, ">=", value, limit, std::isfinite(value) && value >= limit});
+  };
+  const auto at_most = [&](const char* key, double value, double limit) {
+    out.push_back({key, "<=", value, limit, std::isfinite(value) && value <= limit});
+  };
+  at_least("accuracy", s.motion.accuracy(), t.min_accuracy);
+  at_most("ego_rmse_x", s.ego_rmse_mps.x(), t.max_ego_rmse_mps.x());
+  at_most("ego_rmse_y", s.ego_rmse_mps.y(), t.max_ego_rmse_mps.y());
+  at_most("ego_rmse_z", s.ego_rmse_mps.z(), t.max_ego_rmse_mps.z());
+  at_most("object_median_ge200", s.median_error_mps_ge200, t.max_median_error_large_mps);
+  return out;
+}
+
+}  // namespace fmcw::eval

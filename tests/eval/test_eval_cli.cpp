@@ -1,0 +1,217 @@
+// `fmcw evaluate`, `fmcw run` and `fmcw study` as a user drives them: the report (every figure
+// report.html names is a real PNG, metrics.json has every documented key), and bad input (one
+// error line naming the file, exit code 1, no report written).
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+
+#include "fmcw/core/motion_pipeline.hpp"
+#include "support/temp_dir.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliResult {
+  int code = -1;
+  std::string output;  // stdout and stderr
+};
+
+CliResult run(const std::string& args) {
+  CliResult r;
+  const std::string cmd = std::string(FMCW_CLI_PATH) + " " + args + " 2>&1";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return r;
+  char buf[4096];
+  std::size_t n = 0;
+  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, n);
+  const int status = ::pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return r;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+std::vector<std::string> error_lines(const std::string& output) {
+  std::vector<std::string> lines;
+  std::istringstream in(output);
+  for (std::string line; std::getline(in, line);) {
+    if (line.find("error") != std::string::npos) lines.push_back(line);
+  }
+  return lines;
+}
+
+// A PNG starts with its 8-byte signature and an IHDR chunk holding width and height.
+void expect_png(const fs::path& p) {
+  const std::string bytes = slurp(p);
+  ASSERT_GE(bytes.size(), 33u) << p;
+  EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << p;
+  EXPECT_EQ(bytes.substr(12, 4), "IHDR") << p;
+  const auto be32 = [&](std::size_t at) {
+    return (static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[at])) << 24) |
+           (static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[at + 1])) << 16) |
+           (static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[at + 2])) << 8) |
+           static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[at + 3]));
+  };
+  EXPECT_GE(be32(16), 400u) << p << " width";
+  EXPECT_LE(be32(16), 5000u) << p << " width";
+  EXPECT_GE(be32(20), 200u) << p << " height";
+  EXPECT_LE(be32(20), 5000u) << p << " height";
+}
+
+// Every image report.html names exists and is a PNG; returns how many.
+int expect_report_figures(const fs::path& dir) {
+  const std::string html = slurp(dir / "report.html");
+  EXPECT_NE(html.find("</html>"), std::string::npos);
+  const std::regex img("<img src=\"([^\"]+)\"");
+  int count = 0;
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), img); it != std::sregex_iterator(); ++it) {
+    const fs::path png = dir / (*it)[1].str();
+    EXPECT_TRUE(fs::is_regular_file(png)) << png;
+    if (fs::is_regular_file(png)) expect_png(png);
+    ++count;
+  }
+  for (const auto& e : fs::directory_iterator(dir)) {
+    EXPECT_NE(e.path().filename().string().rfind(".tmp.", 0), 0u) << "left behind: " << e.path();
+  }
+  return count;
+}
+
+class EvalCli : public fmcw::test::TempDirTest {
+ protected:
+  // A small dataset of the intersection scenario.
+  std::string dataset(int frames = 3) {
+    const std::string ds = path("ds");
+    const CliResult r = run("simulate " + std::string(FMCW_SOURCE_DIR) + "/scenarios/intersection.yaml -o " + ds +
+                            " --frames " + std::to_string(frames));
+    EXPECT_EQ(r.code, 0) << r.output;
+    return ds;
+  }
+  // Evaluating ds must fail with one error line containing `names`, and write no report.
+  void expect_rejected(const std::string& ds, const std::string& names) {
+    const std::string out = path("report");
+    const CliResult r = run("evaluate " + ds + " -o " + out);
+    EXPECT_EQ(r.code, 1) << r.output;
+    const std::vector<std::string> errors = error_lines(r.output);
+    ASSERT_EQ(errors.size(), 1u) << r.output;
+    EXPECT_EQ(errors[0].rfind("fmcw: error: ", 0), 0u) << errors[0];
+    EXPECT_NE(errors[0].find(names), std::string::npos) << errors[0];
+    for (const char* f : {"metrics.json", "frames.csv", "objects.csv", "report.html"}) {
+      EXPECT_FALSE(fs::exists(fs::path(out) / f)) << f;
+    }
+  }
+};
+
+TEST_F(EvalCli, EvaluateWritesEveryDocumentedKeyAndFigure) {
+  const std::string ds = dataset(3);
+  const CliResult r = run("evaluate " + ds + " -o " + path("report"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const fs::path rep = path("report");
+  const nlohmann::json m = nlohmann::json::parse(slurp(rep / "metrics.json"));
+  EXPECT_EQ(m.at("scenario"), "intersection");
+  EXPECT_EQ(m.at("frames"), 3);
+  EXPECT_EQ(m.at("default_method"), fmcw::core::MotionPipelineParams::default_method());
+  const std::vector<std::string> order = m.at("method_order");
+  ASSERT_GE(order.size(), 2u);
+  EXPECT_EQ(order.front(), "paper");  // the baseline, first
+  EXPECT_TRUE(m.at("methods").contains("fast"));
+  for (const std::string& method : order) {
+    SCOPED_TRACE(method);
+    const nlohmann::json& x = m.at("methods").at(method);
+    for (const char* k : {"precision", "recall", "accuracy"}) EXPECT_TRUE(x.at("motion").contains(k)) << k;
+    EXPECT_EQ(x.at("ego_velocity").at("rmse_mps").size(), 3u);
+    EXPECT_EQ(x.at("ego_velocity").at("max_abs_mps").size(), 3u);
+    for (const char* k : {"evaluated", "detected_fraction", "median_error_mps", "median_error_mps_ge200"}) {
+      EXPECT_TRUE(x.at("objects").contains(k)) << k;
+    }
+    for (const char* k : {"clustering", "ego", "objects", "total"}) EXPECT_TRUE(x.at("timing_ms").contains(k)) << k;
+    EXPECT_TRUE(x.at("motion").at("accuracy").is_number());
+  }
+  for (const char* k : {"scans", "motion_points", "duration_s", "ego_status"}) {
+    EXPECT_TRUE(m.at("dataset").contains(k)) << k;
+  }
+  for (const auto& [key, file] : m.at("files").items()) EXPECT_TRUE(fs::is_regular_file(rep / file.get<std::string>())) << key;
+  EXPECT_EQ(expect_report_figures(rep), 8);
+  // Per frame and method.
+  std::istringstream frames(slurp(rep / "frames.csv"));
+  std::string line;
+  std::size_t rows = 0;
+  while (std::getline(frames, line)) ++rows;
+  EXPECT_EQ(rows, 1 + 3 * order.size());
+}
+
+TEST_F(EvalCli, RunSimulatesEvaluatesAndRefusesToMixDatasets) {
+  const std::string scenario = std::string(FMCW_SOURCE_DIR) + "/scenarios/straight_road.yaml";
+  const std::string out = path("run");
+  CliResult r = run("run " + scenario + " -o " + out + " --frames 2 --no-figures --methods fast");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(fs::path(out) / "dataset" / "dataset.yaml"));
+  const nlohmann::json m = nlohmann::json::parse(slurp(fs::path(out) / "metrics.json"));
+  EXPECT_EQ(m.at("frames"), 2);
+  EXPECT_TRUE(m.at("methods").contains("paper"));
+  r = run("run " + scenario + " -o " + out + " --frames 1 --no-figures");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("--overwrite"), std::string::npos) << r.output;
+  r = run("run " + scenario + " -o " + out + " --frames 1 --no-figures --overwrite");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(nlohmann::json::parse(slurp(fs::path(out) / "metrics.json")).at("frames"), 1);
+}
+
+TEST_F(EvalCli, FolderWithoutDatasetYamlOrFrames) {
+  fs::create_directories(path("empty"));
+  expect_rejected(path("empty"), "empty/dataset.yaml");
+  const std::string ds = dataset(2);
+  fs::remove_all(fs::path(ds) / "frames");
+  expect_rejected(ds, "ds/frames");
+}
+
+TEST_F(EvalCli, TruncatedFrameIsNamed) {
+  const std::string ds = dataset(3);
+  const fs::path frame = fs::path(ds) / "frames" / "000001.pcd";
+  fs::resize_file(frame, fs::file_size(frame) / 2);
+  expect_rejected(ds, "000001.pcd");
+}
+
+TEST_F(EvalCli, TruthTablesThatDoNotMatchTheFrames) {
+  const std::string ds = dataset(3);
+  const fs::path ego = fs::path(ds) / "ego.csv";
+  std::string text = slurp(ego);
+  text.erase(text.rfind('\n', text.size() - 2) + 1);  // drop the last frame's row
+  std::ofstream(ego, std::ios::binary) << text;
+  expect_rejected(ds, "ego.csv");
+}
+
+TEST_F(EvalCli, ExtraFrameFileIsNamed) {
+  const std::string ds = dataset(2);
+  fs::copy_file(fs::path(ds) / "frames" / "000001.pcd", fs::path(ds) / "frames" / "000002.pcd");
+  expect_rejected(ds, "dataset.yaml");
+}
+
+TEST_F(EvalCli, StudiesWriteTheirReports) {
+  const std::string ds = dataset(2);
+  CliResult r = run("study threshold " + ds + " -o " + path("th") + " --thresholds 0.1,0.17,0.3");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(nlohmann::json::parse(slurp(path("th") + "/metrics.json")).at("points").size(), 3u);
+  EXPECT_EQ(expect_report_figures(path("th")), 1);
+  r = run("study object-points " + ds + " -o " + path("op") + " --caps 50,200 --solvers closed_form");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(expect_report_figures(path("op")), 1);
+  r = run("study blind-zone -o " + path("bz") + " --speeds 5 --distances 40 --no-small --phi-step 1 --refine 2 --methods fast");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const nlohmann::json bz = nlohmann::json::parse(slurp(path("bz") + "/metrics.json"));
+  EXPECT_EQ(bz.at("kind"), "blind_zone");
+  EXPECT_FALSE(bz.at("bands").empty());
+  EXPECT_EQ(expect_report_figures(path("bz")), 2);
+}
+
+}  // namespace
