@@ -128,7 +128,7 @@ TEST_F(Cli, BadInputGivesOneClearLineAndNonZeroExit) {
 TEST_F(Cli, BenchJsonNamesBothMethodsWithPointsPerSecond) {
   const CliResult r = run("bench --json --objects 4 --repeats 2");
   ASSERT_EQ(r.code, 0) << r.output;
-  for (const char* key : {"\"fast\"", "\"paper\"", "\"points_per_s\"", "\"ms_per_frame\""}) {
+  for (const char* key : {"\"fast\"", "\"paper\"", "\"robust\"", "\"points_per_s\"", "\"ms_per_frame\"", "\"rays_per_s\""}) {
     EXPECT_NE(r.output.find(key), std::string::npos) << key;
   }
 }

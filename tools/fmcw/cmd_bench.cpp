@@ -39,11 +39,11 @@ int run_bench(const BenchOptions& opt) {
   out["frame"] = {{"rows", frame.scan.rows}, {"cols", frame.scan.cols}, {"valid_points", frame.scan.num_valid()},
                   {"moving_objects", opt.objects}};
   out["threads"] = opt.threads;
-  for (const std::string method : {"fast", "paper"}) {
+  for (const std::string method : {"fast", "paper", "robust"}) {
     core::MotionPipelineParams params = core::MotionPipelineParams::preset(method);
     params.num_threads = opt.threads;
     core::MotionPipeline pipeline(params);
-    const int repeats = opt.repeats > 0 ? opt.repeats : (method == "fast" ? 200 : 30);
+    const int repeats = opt.repeats > 0 ? opt.repeats : (method == "fast" ? 200 : 30);  // fast: cheap, many runs
     std::vector<double> total, clustering, ego, objects;
     std::size_t clusters = 0;
     for (int r = -3; r < repeats; ++r) {  // three warm-up runs
@@ -99,7 +99,7 @@ int run_bench(const BenchOptions& opt) {
 
 Action add_bench_command(CLI::App& app) {
   auto opt = std::make_shared<BenchOptions>();
-  CLI::App* cmd = app.add_subcommand("bench", "Time the motion pipeline (paper and fast) on a 600 x 150 frame");
+  CLI::App* cmd = app.add_subcommand("bench", "Time the motion methods (fast, paper, robust) and the simulator");
   cmd->add_flag("--json", opt->json, "Print JSON");
   cmd->add_option("--objects", opt->objects, "Moving objects in the frame")->check(CLI::Range(0, 1000));
   cmd->add_option("--repeats", opt->repeats, "Timed runs per method (default 200 fast, 30 paper)")->check(CLI::NonNegativeNumber);
