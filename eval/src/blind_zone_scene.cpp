@@ -57,22 +57,7 @@ core::RigModel blind_zone_rig(const BlindZoneSceneParams& params) {
 }
 
 std::shared_ptr<const sim::MeshAsset> box_mesh_asset(const Eigen::Vector3d& half_extent_m, float reflectivity) {
-  const Eigen::Vector3f h = half_extent_m.cast<float>();
-  sim::MeshAsset asset;
-  sim::MeshPart part;
-  part.name = "box";
-  for (int k = 0; k < 8; ++k) {
-    part.vertices.emplace_back((k & 1) ? h.x() : -h.x(), (k & 2) ? h.y() : -h.y(), (k & 4) ? h.z() : -h.z());
-  }
-  const std::uint32_t faces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                      {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-  for (const auto& f : faces) {
-    part.indices.insert(part.indices.end(), {f[0], f[1], f[2]});
-    part.triangle_reflectivity.push_back(reflectivity);
-  }
-  for (const auto& v : part.vertices) asset.rest_bounds.extend(v.cast<double>());
-  asset.parts.push_back(std::move(part));
-  return std::make_shared<const sim::MeshAsset>(std::move(asset));
+  return std::make_shared<const sim::MeshAsset>(sim::box_mesh(half_extent_m.cast<float>(), reflectivity));
 }
 
 // The actor's motion: constant velocity at a heading the study sets between samples (never
