@@ -13,34 +13,17 @@
 #include <set>
 
 #include "fmcw/core/motion_pipeline.hpp"
+#include "support/cli.hpp"
 #include "support/temp_dir.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CliResult {
-  int code = -1;
-  std::string output;  // stdout and stderr
-};
+using fmcw::test::CliResult;
+using fmcw::test::slurp;
 
-CliResult run(const std::string& args) {
-  CliResult r;
-  const std::string cmd = std::string(FMCW_CLI_PATH) + " " + args + " 2>&1";
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  char buf[4096];
-  std::size_t n = 0;
-  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, n);
-  const int status = ::pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  return r;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+CliResult run(const std::string& args) { return fmcw::test::run_cli(args); }
 
 std::vector<std::string> error_lines(const std::string& output) {
   std::vector<std::string> lines;

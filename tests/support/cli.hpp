@@ -1,0 +1,38 @@
+#pragma once
+// Running the fmcw CLI as a user does, and reading what it wrote. FMCW_CLI_PATH is set by CMake.
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace fmcw::test {
+
+struct CliResult {
+  int code = -1;       ///< exit code, or 128 + signal
+  std::string output;  ///< stdout and stderr
+};
+
+/// Runs `fmcw ARGS` through the shell and collects its output and exit code.
+inline CliResult run_cli(const std::string& args) {
+  CliResult r;
+  const std::string cmd = std::string(FMCW_CLI_PATH) + " " + args + " 2>&1";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return r;
+  char buf[4096];
+  std::size_t n = 0;
+  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, n);
+  const int status = ::pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return r;
+}
+
+/// A whole file as bytes.
+inline std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+}  // namespace fmcw::test
