@@ -21,6 +21,22 @@ struct EvaluateOptions {
 };
 }  // namespace
 
+int evaluate_and_report(eval::FrameSource& source, const eval::EvaluationParams& params, const std::string& output,
+                        bool no_figures) {
+  eval::ReportOptions report;
+  report.dir = output;
+  report.tool_version = FMCW_VERSION;
+  report.figures = !no_figures;
+  report.script = eval::ReportScriptParams::from_environment(FMCW_REPORT_SCRIPT);
+  Progress progress("evaluate " + source.info().scenario);
+  eval::evaluate_to_report(
+      source, params, report, [&](std::size_t done, std::size_t total) {
+        progress.update(static_cast<int>(done), static_cast<int>(total));
+      }, &std::cerr);
+  std::cerr << "report: " << output << "/" << (no_figures ? "metrics.json" : "report.html") << "\n";
+  return 0;
+}
+
 Action add_evaluate_command(CLI::App& app) {
   auto opt = std::make_shared<EvaluateOptions>();
   CLI::App* cmd = app.add_subcommand("evaluate", "Evaluate the motion methods on a simulated dataset against its ground truth");
@@ -40,18 +56,7 @@ Action add_evaluate_command(CLI::App& app) {
     params.num_threads = opt->threads;
     params.validate();
     eval::DatasetSource source(opt->dataset, opt->frames);
-    eval::ReportOptions report;
-    report.dir = opt->output;
-    report.tool_version = FMCW_VERSION;
-    report.figures = !opt->no_figures;
-    report.script = eval::ReportScriptParams::from_environment(FMCW_REPORT_SCRIPT);
-    Progress progress("evaluate " + source.info().scenario);
-    eval::evaluate_to_report(
-        source, params, report, [&](std::size_t done, std::size_t total) {
-          progress.update(static_cast<int>(done), static_cast<int>(total));
-        }, &std::cerr);
-    std::cerr << "report: " << opt->output << "/" << (opt->no_figures ? "metrics.json" : "report.html") << "\n";
-    return 0;
+    return evaluate_and_report(source, params, opt->output, opt->no_figures);
   };
 }
 

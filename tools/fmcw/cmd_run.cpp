@@ -79,18 +79,7 @@ Action add_run_command(CLI::App& app) {
               << " s\n";
 
     eval::DatasetSource source(ds.output_dir);
-    eval::ReportOptions report;
-    report.dir = opt->output;
-    report.tool_version = FMCW_VERSION;
-    report.figures = !opt->no_figures;
-    report.script = eval::ReportScriptParams::from_environment(FMCW_REPORT_SCRIPT);
-    Progress progress("evaluate " + source.info().scenario);
-    eval::evaluate_to_report(
-        source, params, report, [&](std::size_t done, std::size_t total) {
-          progress.update(static_cast<int>(done), static_cast<int>(total));
-        }, &std::cerr);
-    std::cerr << "report: " << opt->output << "/" << (opt->no_figures ? "metrics.json" : "report.html") << "\n";
-    return 0;
+    return evaluate_and_report(source, params, opt->output, opt->no_figures);
   };
 }
 

@@ -4,6 +4,9 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
+
+#include "fmcw/eval/evaluation_report.hpp"
 
 namespace fmcw::cli {
 
@@ -16,5 +19,10 @@ Action add_simulate_command(CLI::App& app);
 Action add_evaluate_command(CLI::App& app);
 Action add_run_command(CLI::App& app);
 Action add_study_command(CLI::App& app);
+
+/// Runs the evaluation of a dataset and writes its report (metrics.json, tables, and figures
+/// plus report.html unless no_figures), with progress on stderr. Shared by evaluate and run.
+int evaluate_and_report(eval::FrameSource& source, const eval::EvaluationParams& params, const std::string& output,
+                        bool no_figures);
 
 }  // namespace fmcw::cli
