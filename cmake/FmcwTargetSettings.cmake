@@ -8,7 +8,7 @@ function(fmcw_target_settings target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Werror)
   # Link-time optimisation in optimised builds: small functions of other files (noise draws,
   # intensity) inline into the per-pixel loops.
-  if(FMCW_IPO_SUPPORTED AND NOT FMCW_SANITIZE)
+  if(FMCW_IPO_SUPPORTED AND FMCW_LTO AND NOT FMCW_SANITIZE)
     set_target_properties(${target} PROPERTIES INTERPROCEDURAL_OPTIMIZATION_RELEASE ON
                                                INTERPROCEDURAL_OPTIMIZATION_RELWITHDEBINFO ON)
   endif()
