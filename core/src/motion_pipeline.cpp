@@ -50,6 +50,9 @@ void MotionPipelineParams::validate() const {
   instances.validate();
   FMCW_CHECK_ARG(moving_sigma > 0.0, "pipeline: moving_sigma must be > 0, got ", moving_sigma);
   FMCW_CHECK_ARG(num_threads >= 0, "pipeline: num_threads must be >= 0, got ", num_threads);
+  FMCW_CHECK_ARG(!track_objects || approach == MotionApproach::kRobustEgo,
+                 "pipeline: track_objects needs the robust-ego approach");
+  tracking.validate();
 }
 
 MotionPipelineParams MotionPipelineParams::preset(const std::string& method) {
@@ -62,6 +65,9 @@ MotionPipelineParams MotionPipelineParams::preset(const std::string& method) {
     p.velocity.object_max_points = 200;
   } else if (method == "robust") {
     p.approach = MotionApproach::kRobustEgo;
+  } else if (method == "tracked") {
+    p.approach = MotionApproach::kRobustEgo;
+    p.track_objects = true;
   } else if (method == "fast") {
     p.velocity.solver = VelocitySolver::kClosedForm;
     p.velocity.ego_max_points = 0;
@@ -74,9 +80,9 @@ MotionPipelineParams MotionPipelineParams::preset(const std::string& method) {
   return p;
 }
 
-std::vector<std::string> MotionPipelineParams::preset_names() { return {"paper", "fast", "robust"}; }
+std::vector<std::string> MotionPipelineParams::preset_names() { return {"paper", "fast", "robust", "tracked"}; }
 
-std::string MotionPipelineParams::default_method() { return "robust"; }
+std::string MotionPipelineParams::default_method() { return "tracked"; }
 
 std::string to_string(MotionStatus status) {
   switch (status) {
@@ -88,7 +94,7 @@ std::string to_string(MotionStatus status) {
 }
 
 MotionPipeline::MotionPipeline(const MotionPipelineParams& params)
-    : params_(params), segmenter_((params.validate(), params.segmentation)) {}
+    : params_(params), segmenter_((params.validate(), params.segmentation)), tracker_(params.tracking) {}
 
 namespace {
 
@@ -349,7 +355,17 @@ MotionEstimate MotionPipeline::process_robust(const Scan& scan, std::uint64_t fr
 }
 
 MotionEstimate MotionPipeline::process(const Scan& scan, std::uint64_t frame_index) {
-  if (params_.approach == MotionApproach::kRobustEgo) return process_robust(scan, frame_index);
+  if (params_.approach == MotionApproach::kRobustEgo) {
+    MotionEstimate out = process_robust(scan, frame_index);
+    if (params_.track_objects) {
+      const auto t0 = Clock::now();
+      tracker_.update(scan, out);
+      const double ms = ms_since(t0);
+      out.timing.objects_ms += ms;
+      out.timing.total_ms += ms;
+    }
+    return out;
+  }
   const VelocityParams& vp = params_.velocity;
   const bool fused = vp.solver == VelocitySolver::kClosedForm && vp.ego_max_points == 0 && vp.object_max_points == 0;
   // The fused path reads only valid, v and x, y, z; it checks v during segmentation and

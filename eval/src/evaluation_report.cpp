@@ -47,7 +47,9 @@ json method_json(const MethodSummary& s, const std::vector<TargetCheck>& checks)
        {{"rmse_mps", vec(s.ego_rmse_mps)},
         {"max_abs_mps", vec(s.ego_max_abs_mps)},
         {"rmse_at_heads_mps", vec(s.ego_rmse_at_heads_mps)},
-        {"frames", s.ego_frames}}},
+        {"frames", s.ego_frames},
+        {"yaw_rate_rmse_dps", number(s.yaw_rate_rmse_dps)},
+        {"yaw_frames", s.yaw_frames}}},
       {"objects",
        {{"evaluated", s.objects_evaluated},
         {"detected", s.objects_detected},
@@ -58,7 +60,18 @@ json method_json(const MethodSummary& s, const std::vector<TargetCheck>& checks)
         {"median_error_mps_ge200", number(s.median_error_mps_ge200)},
         {"p90_error_mps_ge200", number(s.p90_error_mps_ge200)},
         {"median_reference_error_mps", number(s.median_reference_error_mps)},
-        {"median_reference_error_mps_ge200", number(s.median_reference_error_mps_ge200)}}},
+        {"median_reference_error_mps_ge200", number(s.median_reference_error_mps_ge200)},
+        {"large_turning", s.objects_large_turning},
+        {"median_reference_error_mps_ge200_turning", number(s.median_reference_error_mps_ge200_turning)},
+        {"instance_precision", number(s.instance_precision)},
+        {"instance_recall", number(s.instance_recall)},
+        {"instance_clusters", s.instances.clusters},
+        {"instance_actors", s.instances.actors}}},
+      {"blind_zone",
+       {{"actor_frames", s.blind_actor_frames},
+        {"band_pixels", s.blind_band_pixels},
+        {"band_pixels_detected", s.blind_band_detected},
+        {"recall_tracked", number(s.blind_recall_tracked)}}},
       {"timing_ms", timing(s.mean_timing_ms)},
       {"timing_max_ms", timing(s.max_timing_ms)},
       {"targets", targets},
@@ -88,11 +101,14 @@ void write_frames(const std::string& path, const EvaluationResult& r) {
   t.write(path);
 }
 
+constexpr double kDegPerRad = 180.0 / M_PI;
+
 void write_objects(const std::string& path, const EvaluationResult& r) {
   CsvTable t({"frame", "method", "actor", "class", "pixels", "moving_pixels", "distance_m", "evaluated", "detected",
               "estimate_valid", "cluster", "pixels_in_cluster", "cluster_pixels", "est_vx_mps", "est_vy_mps",
               "est_vz_mps", "true_vx_mps", "true_vy_mps", "true_vz_mps", "ref_vx_mps", "ref_vy_mps", "ref_vz_mps",
-              "err_x_mps", "err_y_mps", "err_z_mps", "err_mps", "ref_err_mps"});
+              "err_x_mps", "err_y_mps", "err_z_mps", "err_mps", "ref_err_mps", "true_x_m", "true_y_m",
+              "est_centre_x_m", "est_centre_y_m", "true_yaw_rate_dps", "est_yaw_rate_dps"});
   for (std::size_t k = 0; k < static_cast<std::size_t>(r.dataset.frames); ++k) {
     for (const auto& frames : r.frames) {
       const FrameEvaluation& f = frames[k];
@@ -102,6 +118,8 @@ void write_objects(const std::string& path, const EvaluationResult& r) {
         t.add(m.cluster).add(m.pixels_in_cluster).add(m.cluster_pixels);
         t.add(m.estimate_mps).add(m.truth_mean_mps).add(m.reference_mps).add(m.error_mps());
         t.add(m.error_mps().norm()).add(m.reference_error_mps().norm());
+        t.add(m.position_m.x()).add(m.position_m.y()).add(m.estimate_centre_m.x()).add(m.estimate_centre_m.y());
+        t.add(m.yaw_rate_rps * kDegPerRad).add(m.estimate_yaw_rate_rps * kDegPerRad);
         t.end_row();
       }
     }

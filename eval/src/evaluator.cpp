@@ -25,6 +25,7 @@ void EvaluationParams::validate() const {
   FMCW_CHECK_ARG(std::find(known.begin(), known.end(), default_method) != known.end(), "evaluate: default method '",
                  default_method, "' is not a known method");
   FMCW_CHECK_ARG(num_threads >= 0, "evaluate: num_threads must be >= 0, got ", num_threads);
+  FMCW_CHECK_ARG(blind_band_mps > 0.0, "evaluate: blind_band_mps must be > 0, got ", blind_band_mps);
   objects.validate();
   summary.validate();
 }
@@ -72,7 +73,7 @@ EvaluationResult evaluate(FrameSource& source, const EvaluationParams& params, c
     try {
       for (std::size_t m = 0; m < r.methods.size(); ++m) {
         estimates.push_back(pipelines[m].process(frame.scan, k));
-        r.frames[m].push_back(evaluate_frame(k, frame, *frame.frame_truth, estimates.back(), params.objects));
+        r.frames[m].push_back(evaluate_frame(k, frame, *frame.frame_truth, estimates.back(), params.objects, params.blind_band_mps));
       }
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(source.describe(k) + ": " + e.what());

@@ -5,7 +5,8 @@
 namespace fmcw::eval {
 
 FrameEvaluation evaluate_frame(std::size_t frame_index, const core::Frame& frame, const core::FrameTruth& truth,
-                               const core::MotionEstimate& estimate, const ObjectMatchParams& objects) {
+                               const core::MotionEstimate& estimate, const ObjectMatchParams& objects,
+                               double blind_band_mps) {
   FMCW_CHECK_ARG(frame.truth.has_value(), "frame ", frame_index, ": no per-pixel ground truth (gt_* fields)");
   const core::Scan& scan = frame.scan;
   FMCW_CHECK_ARG(estimate.labels.size() == scan.size(), "frame ", frame_index, ": estimate has ",
@@ -26,6 +27,11 @@ FrameEvaluation evaluate_frame(std::size_t frame_index, const core::Frame& frame
   if (!scan.heads.empty()) mean_mount /= static_cast<double>(scan.heads.size());
   e.ego_truth_at_heads_mps = truth.ego.velocity_mps + truth.ego.angular_velocity_rps.cross(mean_mount);
   e.objects = match_objects(*frame.truth, scan.valid, truth, estimate, objects);
+  e.instances = count_instances(*frame.truth, scan.valid, estimate, objects);
+  e.blind_band = blind_band_actors(scan, *frame.truth, estimate, blind_band_mps);
+  e.yaw_rate_valid = estimate.ego.valid && estimate.ego_yaw_rate_estimated;
+  if (e.yaw_rate_valid) e.yaw_rate_estimate_rps = estimate.ego_angular_velocity_rps.z();
+  e.yaw_rate_truth_rps = truth.ego.angular_velocity_rps.z();
   e.timing = estimate.timing;
   return e;
 }

@@ -61,6 +61,8 @@ std::vector<ObjectMatch> match_objects(const core::PixelGroundTruth& gt, const s
     m.distance_m = t.position_rig_m.norm();
     m.evaluated = a.moving >= params.min_moving_pixels;
     m.reference_mps = t.velocity_rig_mps;
+    m.position_m = t.position_rig_m;
+    m.yaw_rate_rps = t.angular_velocity_rig_rps.z();
     const ClusterShare* best = nullptr;
     for (const auto& [label, share] : a.clusters) {
       if (best == nullptr || share.pixels > best->pixels) {  // ties: the lower label
@@ -78,10 +80,83 @@ std::vector<ObjectMatch> match_objects(const core::PixelGroundTruth& gt, const s
       m.detected = 2 * best->pixels > a.pixels;
       m.truth_mean_mps = best->velocity_sum / static_cast<double>(best->pixels);
       m.estimate_valid = m.detected && c.velocity.valid;
-      if (m.estimate_valid) m.estimate_mps = c.velocity.velocity_mps;
+      if (m.estimate_valid) {
+        m.estimate_mps = c.velocity.velocity_mps;
+        m.estimate_centre_m = c.centre_m;
+        m.estimate_yaw_rate_rps = c.yaw_rate_rps;
+      }
     }
     out.push_back(m);
   }
+  return out;
+}
+
+InstanceCounts count_instances(const core::PixelGroundTruth& gt, const std::vector<std::uint8_t>& valid,
+                               const core::MotionEstimate& estimate, const ObjectMatchParams& params) {
+  params.validate();
+  const std::size_t n = valid.size();
+  gt.validate(n);
+  FMCW_CHECK_ARG(estimate.labels.size() == n, "count_instances: estimate has ", estimate.labels.size(),
+                 " labels for ", n, " pixels");
+  std::map<std::uint32_t, std::pair<int, int>> actor;  // id -> (valid pixels, truly moving)
+  std::map<std::int32_t, int> cluster;                 // label -> pixels
+  std::map<std::pair<std::uint32_t, std::int32_t>, int> overlap;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!valid[i]) continue;
+    const std::int32_t l = estimate.labels[i];
+    if (l >= 1) ++cluster[l];
+    const std::uint32_t a = gt.instance[i];
+    if (a == 0) continue;
+    auto& counts = actor[a];
+    ++counts.first;
+    counts.second += gt.moving[i] ? 1 : 0;
+    if (l >= 1) ++overlap[{a, l}];
+  }
+  InstanceCounts c;
+  c.clusters = static_cast<int>(cluster.size());
+  std::map<std::int32_t, bool> cluster_matched;
+  for (const auto& [id, counts] : actor) {
+    if (counts.second < params.min_moving_pixels) continue;
+    ++c.actors;
+    for (auto it = overlap.lower_bound({id, 0}); it != overlap.end() && it->first.first == id; ++it) {
+      const int inter = it->second;
+      const int uni = counts.first + cluster[it->first.second] - inter;
+      if (2 * inter > uni) {  // IoU > 0.5: at most one cluster per actor and one actor per cluster
+        ++c.actors_matched;
+        cluster_matched[it->first.second] = true;
+      }
+    }
+  }
+  c.clusters_matched = static_cast<int>(cluster_matched.size());
+  return c;
+}
+
+std::vector<BlindBandActor> blind_band_actors(const core::Scan& scan, const core::PixelGroundTruth& gt,
+                                              const core::MotionEstimate& estimate, double band_mps) {
+  FMCW_CHECK_ARG(band_mps > 0.0, "blind band: band_mps must be > 0, got ", band_mps);
+  const std::size_t n = scan.size();
+  gt.validate(n);
+  FMCW_CHECK_ARG(estimate.labels.size() == n, "blind band: estimate has ", estimate.labels.size(), " labels for ",
+                 n, " pixels");
+  std::map<std::uint32_t, BlindBandActor> actors;
+  for (int r = 0; r < scan.rows; ++r) {
+    for (int col = 0; col < scan.cols; ++col) {
+      const std::size_t i = scan.index(r, col);
+      if (!scan.valid[i] || !gt.moving[i] || gt.instance[i] == 0) continue;
+      const Eigen::Vector3d e = (scan.position(i) - scan.beam_origin(i)).normalized();
+      const double along = e.dot(Eigen::Vector3d(gt.vx_mps[i], gt.vy_mps[i], gt.vz_mps[i]));
+      BlindBandActor& a = actors[gt.instance[i]];
+      a.actor_id = gt.instance[i];
+      if (std::abs(along) < band_mps) {
+        ++a.band_pixels;
+        a.band_detected += estimate.labels[i] >= 1 ? 1 : 0;
+      } else {
+        ++a.visible_pixels;
+      }
+    }
+  }
+  std::vector<BlindBandActor> out;
+  for (const auto& [id, a] : actors) out.push_back(a);
   return out;
 }
 

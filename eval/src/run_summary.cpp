@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <set>
 
 #include "fmcw/core/check.hpp"
 #include "fmcw/eval/statistics.hpp"
@@ -11,6 +12,8 @@ namespace fmcw::eval {
 
 void SummaryParams::validate() const {
   FMCW_CHECK_ARG(large_object_pixels >= 1, "summary: large_object_pixels must be >= 1, got ", large_object_pixels);
+  FMCW_CHECK_ARG(blind_visible_pixels >= 1, "summary: blind_visible_pixels must be >= 1, got ", blind_visible_pixels);
+  FMCW_CHECK_ARG(turning_yaw_rate_rps >= 0.0, "summary: turning_yaw_rate_rps must be >= 0, got ", turning_yaw_rate_rps);
 }
 
 namespace {
@@ -33,7 +36,9 @@ MethodSummary summarize(const std::vector<FrameEvaluation>& frames, const Summar
   if (!frames.empty()) s.method = frames.front().method;
   s.frames = static_cast<int>(frames.size());
   AxisErrorStats ego, ego_heads;
-  std::vector<double> errors, errors_large, ref_errors, ref_errors_large;
+  std::vector<double> errors, errors_large, ref_errors, ref_errors_large, ref_errors_turning;
+  double yaw_sq = 0.0;
+  std::set<std::uint32_t> seen_moving;  // actors visibly moving in an earlier frame
   core::StageTiming sum;
   for (const FrameEvaluation& f : frames) {
     FMCW_CHECK_ARG(f.method == s.method, "summarize: frame ", f.frame, " is method '", f.method, "', expected '",
@@ -57,7 +62,24 @@ MethodSummary summarize(const std::vector<FrameEvaluation>& frames, const Summar
         ++s.objects_large;
         errors_large.push_back(errors.back());
         ref_errors_large.push_back(ref_errors.back());
+        if (std::abs(m.yaw_rate_rps) > params.turning_yaw_rate_rps) ref_errors_turning.push_back(ref_errors.back());
       }
+    }
+    if (f.yaw_rate_valid) {
+      ++s.yaw_frames;
+      const double d = (f.yaw_rate_estimate_rps - f.yaw_rate_truth_rps) * 180.0 / M_PI;
+      yaw_sq += d * d;
+    }
+    s.instances += f.instances;
+    for (const BlindBandActor& a : f.blind_band) {
+      if (a.band_pixels > 0 && seen_moving.count(a.actor_id) > 0) {
+        ++s.blind_actor_frames;
+        s.blind_band_pixels += static_cast<std::uint64_t>(a.band_pixels);
+        s.blind_band_detected += static_cast<std::uint64_t>(a.band_detected);
+      }
+    }
+    for (const BlindBandActor& a : f.blind_band) {
+      if (a.visible_pixels >= params.blind_visible_pixels) seen_moving.insert(a.actor_id);
     }
     add_timing(sum, s.max_timing_ms, f.timing);
   }
@@ -73,6 +95,13 @@ MethodSummary summarize(const std::vector<FrameEvaluation>& frames, const Summar
   s.p90_error_mps_ge200 = quantile(errors_large, 0.9);
   s.median_reference_error_mps = median(ref_errors);
   s.median_reference_error_mps_ge200 = median(ref_errors_large);
+  s.objects_large_turning = static_cast<int>(ref_errors_turning.size());
+  s.median_reference_error_mps_ge200_turning = median(ref_errors_turning);
+  s.yaw_rate_rmse_dps = s.yaw_frames == 0 ? kNaN : std::sqrt(yaw_sq / s.yaw_frames);
+  const auto ratio = [&](double a, double b) { return b > 0.0 ? a / b : kNaN; };
+  s.instance_precision = ratio(s.instances.clusters_matched, s.instances.clusters);
+  s.instance_recall = ratio(s.instances.actors_matched, s.instances.actors);
+  s.blind_recall_tracked = ratio(static_cast<double>(s.blind_band_detected), static_cast<double>(s.blind_band_pixels));
   const double n = frames.empty() ? kNaN : static_cast<double>(frames.size());
   s.mean_timing_ms = {sum.clustering_ms / n, sum.ego_ms / n, sum.objects_ms / n, sum.total_ms / n};
   return s;
@@ -90,7 +119,10 @@ std::vector<TargetCheck> check_targets(const MethodSummary& s, const Targets& t)
   at_most("ego_rmse_x", s.ego_rmse_mps.x(), t.max_ego_rmse_mps.x());
   at_most("ego_rmse_y", s.ego_rmse_mps.y(), t.max_ego_rmse_mps.y());
   at_most("ego_rmse_z", s.ego_rmse_mps.z(), t.max_ego_rmse_mps.z());
+  at_most("yaw_rate_rmse", s.yaw_rate_rmse_dps, t.max_yaw_rate_rmse_dps);
   at_most("object_median_ge200", s.median_error_mps_ge200, t.max_median_error_large_mps);
+  at_most("object_centre_median_ge200", s.median_reference_error_mps_ge200, t.max_median_error_large_mps);
+  if (s.blind_band_pixels > 0) at_least("blind_zone_recall_tracked", s.blind_recall_tracked, t.min_blind_recall);
   return out;
 }
 

@@ -244,7 +244,7 @@ TEST(MotionPipelineParams, UnknownMethodNamesTheKnownOnes) {
     MotionPipelineParams::preset("magic");
     FAIL();
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("unknown method 'magic' (known: paper, fast, robust)"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("unknown method 'magic' (known: paper, fast, robust, tracked)"), std::string::npos);
   }
   MotionPipelineParams bad;
   bad.segmentation.velocity_threshold_mps = -1.0;

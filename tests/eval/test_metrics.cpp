@@ -136,14 +136,30 @@ TEST(Targets, MetMissedAndUnmeasurable) {
   s.motion.fn = 4;  // accuracy 0.996
   s.ego_rmse_mps = Eigen::Vector3d(0.005, 0.02, 0.03);
   s.median_error_mps_ge200 = NAN;
-  const std::vector<TargetCheck> c = check_targets(s);
-  ASSERT_EQ(c.size(), 5u);
+  s.yaw_rate_rmse_dps = 0.4;
+  s.median_reference_error_mps_ge200 = 0.2;
+  std::vector<TargetCheck> c = check_targets(s);
+  ASSERT_EQ(c.size(), 7u);  // no blind-band check: the run had no blind-band pixels
   EXPECT_TRUE(c[0].met);   // accuracy 0.996 >= 0.995
   EXPECT_TRUE(c[1].met);   // x 0.005 <= 0.01
   EXPECT_FALSE(c[2].met);  // y 0.02 > 0.01
   EXPECT_TRUE(c[3].met);   // z 0.03 <= 0.03
-  EXPECT_FALSE(c[4].met);  // nothing to measure is not a pass
-  EXPECT_EQ(c[4].key, "object_median_ge200");
+  EXPECT_EQ(c[4].key, "yaw_rate_rmse");
+  EXPECT_TRUE(c[4].met);   // 0.4 <= 0.5 deg/s
+  EXPECT_EQ(c[5].key, "object_median_ge200");
+  EXPECT_FALSE(c[5].met);  // nothing to measure is not a pass
+  EXPECT_EQ(c[6].key, "object_centre_median_ge200");
+  EXPECT_FALSE(c[6].met);  // 0.2 > 0.1
+
+  s.blind_band_pixels = 100;
+  s.blind_band_detected = 95;
+  s.blind_recall_tracked = 0.95;
+  s.yaw_rate_rmse_dps = NAN;  // a method that does not estimate the yaw rate
+  c = check_targets(s);
+  ASSERT_EQ(c.size(), 8u);
+  EXPECT_FALSE(c[4].met);
+  EXPECT_EQ(c[7].key, "blind_zone_recall_tracked");
+  EXPECT_TRUE(c[7].met);  // 0.95 >= 0.9
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "fmcw/core/doppler_segmentation.hpp"
 #include "fmcw/core/ego_twist.hpp"
 #include "fmcw/core/moving_instances.hpp"
+#include "fmcw/core/object_tracker.hpp"
 #include "fmcw/core/velocity_lsq.hpp"
 
 namespace fmcw::core {
@@ -43,6 +44,11 @@ struct MotionPipelineParams {
   /// many standard deviations (sensor noise and the ego estimate's uncertainty along e).
   double moving_sigma = 4.0;
   InstanceParams instances;         ///< kRobustEgo
+  /// Track objects across frames (ObjectTracker): tangential velocity and yaw rate from
+  /// several scans, "moving" carried through the Doppler blind band. Frames must then be
+  /// processed in time order by one MotionPipeline.
+  bool track_objects = false;
+  TrackerParams tracking;
   /// kRobustEgo: objects move in the horizontal plane of the rig (v_z = 0). A few degrees of
   /// elevation leave v_z nearly unobservable, and limbs or wheels would leak into it.
   bool planar_objects = true;
@@ -55,6 +61,9 @@ struct MotionPipelineParams {
   /// much of the view its inliers cover, with a standing test and Huber refinement; moving
   /// points are those the twist does not explain; instances by range and Doppler continuity;
   /// object velocities in closed form with each head's own origin velocity.
+  /// "tracked": "robust", then a filter per object across frames (constant turn rate, each
+  /// point's Doppler a measurement row): velocity at the object's centre with its yaw rate,
+  /// and objects kept "moving" through the blind band.
   /// "paper": Algorithm 1 (stack-based region growing) + Algorithm 2 as published: Ceres,
   /// num_th^s = 1000 (the paper gives no figure; 1000 keeps the Ceres ego solve near a
   /// millisecond), num_th^m = 200.
@@ -62,7 +71,7 @@ struct MotionPipelineParams {
   /// closed form on every point, gathered in one pass over the image.
   static MotionPipelineParams preset(const std::string& method);
   static std::vector<std::string> preset_names();
-  /// The project's default method: "robust".
+  /// The project's default method: "tracked".
   static std::string default_method();
 };
 
@@ -71,12 +80,19 @@ struct ClusterEstimate {
   int num_pixels = 0;     ///< pixels in the cluster (before subsampling)
   Eigen::Vector3d centroid_m = Eigen::Vector3d::Zero();  ///< mean position, rig frame [m]
   VelocityEstimate velocity;  ///< absolute velocity in the rig frame (Eq. 22) [m/s]
+  /// With tracking: velocity holds the track's velocity at its centre; these say more.
+  std::int32_t track_id = 0;  ///< 0 = not tracked
+  int track_hits = 0;         ///< frames the track has been updated in
+  int carried_pixels = 0;     ///< pixels the track claimed that one scan labelled static
+  double yaw_rate_rps = VelocityEstimate::kNaN;  ///< the track's yaw rate [rad/s]
+  Eigen::Vector3d centre_m = Eigen::Vector3d::Constant(VelocityEstimate::kNaN);  ///< box centre, rig frame [m]
+  Eigen::Vector3d scan_velocity_mps = Eigen::Vector3d::Constant(VelocityEstimate::kNaN);  ///< the single-scan estimate
 };
 
 struct StageTiming {
   double clustering_ms = 0.0;
   double ego_ms = 0.0;
-  double objects_ms = 0.0;
+  double objects_ms = 0.0;  ///< object velocities, and tracking when enabled
   double total_ms = 0.0;
 };
 
@@ -121,6 +137,7 @@ class MotionPipeline {
 
   MotionPipelineParams params_;
   DopplerSegmenter segmenter_;
+  ObjectTracker tracker_;
 };
 
 }  // namespace fmcw::core

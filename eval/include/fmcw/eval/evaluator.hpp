@@ -26,6 +26,10 @@ struct EvaluationParams {
   std::uint64_t seed = 0;               ///< seeds the methods' random subsampling
   int num_threads = 0;                  ///< per-object estimation threads (0 = OpenMP default)
   ObjectMatchParams objects;
+  /// Width of the Doppler blind band [m/s]: truly moving pixels with |e . v_true| below it are
+  /// what a single scan cannot separate from the static world (the robust method's threshold
+  /// is 4 sigma of the 0.031 m/s noise, about 0.124 m/s).
+  double blind_band_mps = 0.15;
   SummaryParams summary;
   Targets targets;
 

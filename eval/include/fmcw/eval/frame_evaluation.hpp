@@ -28,6 +28,12 @@ struct FrameEvaluation {
   /// beam origins can at best be when the rig turns (equals ego_truth_mps without rotation).
   Eigen::Vector3d ego_truth_at_heads_mps = Eigen::Vector3d::Zero();
   std::vector<ObjectMatch> objects;
+  InstanceCounts instances;
+  std::vector<BlindBandActor> blind_band;  ///< see blind_band_actors
+  /// Yaw rate: valid when the method estimates it (and the ego velocity is valid).
+  bool yaw_rate_valid = false;
+  double yaw_rate_estimate_rps = core::VelocityEstimate::kNaN;
+  double yaw_rate_truth_rps = 0.0;  ///< FrameTruth::ego.angular_velocity_rps.z()
   core::StageTiming timing;
 
   /// estimate - truth (rig origin) [m/s]; NaN when the ego estimate is invalid.
@@ -39,7 +45,9 @@ struct FrameEvaluation {
 /// Compares an estimate with the frame's truth. The frame must carry per-pixel truth; truth is
 /// the frame's row of the truth tables. Throws std::invalid_argument when sizes disagree or
 /// the per-pixel truth is missing.
+/// blind_band_mps: width of the Doppler blind band for BlindBandActor counts [m/s].
 FrameEvaluation evaluate_frame(std::size_t frame_index, const core::Frame& frame, const core::FrameTruth& truth,
-                               const core::MotionEstimate& estimate, const ObjectMatchParams& objects = {});
+                               const core::MotionEstimate& estimate, const ObjectMatchParams& objects = {},
+                               double blind_band_mps = 0.15);
 
 }  // namespace fmcw::eval

@@ -43,12 +43,51 @@ struct ObjectMatch {
   Eigen::Vector3d estimate_mps = Eigen::Vector3d::Constant(core::VelocityEstimate::kNaN);    ///< cluster velocity, rig axes
   Eigen::Vector3d truth_mean_mps = Eigen::Vector3d::Constant(core::VelocityEstimate::kNaN);  ///< see above
   Eigen::Vector3d reference_mps = Eigen::Vector3d::Zero();          ///< see above
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();  ///< ActorTruth::position_rig_m
+  double yaw_rate_rps = 0.0;  ///< the actor's true yaw rate (ActorTruth, z) [rad/s]
+  /// From a tracking method (NaN otherwise): the track's box centre and yaw rate.
+  Eigen::Vector3d estimate_centre_m = Eigen::Vector3d::Constant(core::VelocityEstimate::kNaN);
+  double estimate_yaw_rate_rps = core::VelocityEstimate::kNaN;
 
   /// estimate - truth_mean (NaN unless estimate_valid) [m/s]
   Eigen::Vector3d error_mps() const { return estimate_mps - truth_mean_mps; }
   /// estimate - reference (NaN unless estimate_valid) [m/s]
   Eigen::Vector3d reference_error_mps() const { return estimate_mps - reference_mps; }
 };
+
+/// Instance segmentation against the actors, one frame: a cluster and an evaluated actor
+/// match when their pixel sets overlap with IoU > 0.5 (so each has at most one match).
+struct InstanceCounts {
+  int clusters = 0;          ///< moving clusters reported
+  int clusters_matched = 0;  ///< of which match an evaluated actor
+  int actors = 0;            ///< evaluated actors (>= min_moving_pixels truly moving pixels)
+  int actors_matched = 0;    ///< of which match a cluster
+
+  InstanceCounts& operator+=(const InstanceCounts& o) {
+    clusters += o.clusters;
+    clusters_matched += o.clusters_matched;
+    actors += o.actors;
+    actors_matched += o.actors_matched;
+    return *this;
+  }
+};
+
+InstanceCounts count_instances(const core::PixelGroundTruth& gt, const std::vector<std::uint8_t>& valid,
+                               const core::MotionEstimate& estimate, const ObjectMatchParams& params = {});
+
+/// One moving actor's pixels inside the Doppler blind band in one frame: truly moving pixels
+/// whose own motion along the beam, |e . v_true|, is below the band (a single scan cannot tell
+/// them from the static world), and how many of them the method labelled moving.
+struct BlindBandActor {
+  std::uint32_t actor_id = 0;
+  int band_pixels = 0;
+  int band_detected = 0;
+  int visible_pixels = 0;  ///< truly moving pixels outside the band
+};
+
+/// Actors with truly moving pixels, in increasing id order. band_mps > 0.
+std::vector<BlindBandActor> blind_band_actors(const core::Scan& scan, const core::PixelGroundTruth& gt,
+                                              const core::MotionEstimate& estimate, double band_mps);
 
 /// Every actor with a valid pixel in the frame, in increasing id order. Throws
 /// std::invalid_argument when an array does not hold one value per pixel, when a pixel's

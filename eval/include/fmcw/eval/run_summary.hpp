@@ -2,6 +2,7 @@
 // Per-run figures of one method over all frames, and the accuracy targets they are held to.
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,11 @@ struct SummaryParams {
   /// Objects with at least this many valid pixels form the "large object" median (the paper's
   /// Fig. 8: errors within 0.1 m/s above 200 points) [pixels].
   int large_object_pixels = 200;
+  /// An actor counts in blind_zone.recall_tracked from the frame after one in which at least
+  /// this many of its truly moving pixels were outside the blind band (visibly moving) [pixels].
+  int blind_visible_pixels = 20;
+  /// Objects turning faster than this count as turning [rad/s] (about 3 deg/s).
+  double turning_yaw_rate_rps = 0.05;
 
   void validate() const;
 };
@@ -38,6 +44,21 @@ struct MethodSummary {
   double p90_error_mps_ge200 = 0.0;     ///< 90th percentile over large pairs
   double median_reference_error_mps = 0.0;        ///< median |estimate - reference| over estimated pairs
   double median_reference_error_mps_ge200 = 0.0;  ///< the same over large pairs
+  int objects_large_turning = 0;                   ///< large pairs whose actor turns
+  double median_reference_error_mps_ge200_turning = 0.0;  ///< median |estimate - reference| over those
+
+  int yaw_frames = 0;               ///< frames with a yaw-rate estimate
+  double yaw_rate_rmse_dps = 0.0;   ///< RMSE of the ego yaw rate [deg/s]; NaN when never estimated
+
+  InstanceCounts instances;         ///< pooled over frames
+  double instance_precision = 0.0;  ///< clusters_matched / clusters (NaN without clusters)
+  double instance_recall = 0.0;     ///< actors_matched / actors (NaN without evaluated actors)
+
+  /// Blind band: pixels of actors visibly moving in an earlier frame that lie inside the band.
+  int blind_actor_frames = 0;
+  std::uint64_t blind_band_pixels = 0;
+  std::uint64_t blind_band_detected = 0;
+  double blind_recall_tracked = 0.0;  ///< detected / band pixels (NaN when there are none)
 
   core::StageTiming mean_timing_ms;  ///< mean per frame
   core::StageTiming max_timing_ms;   ///< worst frame
@@ -51,10 +72,15 @@ struct Targets {
   double min_accuracy = 0.995;                                    ///< motion accuracy (Eq. 25)
   Eigen::Vector3d max_ego_rmse_mps = Eigen::Vector3d(0.01, 0.01, 0.03);  ///< per axis [m/s]
   double max_median_error_large_mps = 0.1;  ///< median object error, >= 200 pixels [m/s]
+  double max_yaw_rate_rmse_dps = 0.5;       ///< ego yaw rate [deg/s]
+  double min_blind_recall = 0.9;            ///< blind_zone.recall_tracked (checked when there is a band)
 };
 
 struct TargetCheck {
-  std::string key;       ///< "accuracy", "ego_rmse_x", "ego_rmse_y", "ego_rmse_z", "object_median_ge200"
+  /// "accuracy", "ego_rmse_x", "ego_rmse_y", "ego_rmse_z", "yaw_rate_rmse", "object_median_ge200"
+  /// (against the mean surface velocity of the cluster's points), "object_centre_median_ge200"
+  /// (against the velocity of the actor's centre), "blind_zone_recall_tracked".
+  std::string key;
   std::string relation;  ///< ">=" or "<="
   double value = 0.0;
   double limit = 0.0;

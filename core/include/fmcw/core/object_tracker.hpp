@@ -1,0 +1,105 @@
+#pragma once
+// Tracking moving objects across frames: what one scan cannot see (tangential velocity, yaw
+// rate, objects inside the Doppler blind band), several scans can.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "fmcw/core/scan.hpp"
+
+namespace fmcw::core {
+
+struct MotionEstimate;
+
+struct TrackerParams {
+  /// Per-row standard deviation of an object's Doppler rows: sensor noise plus what a rigid
+  /// model does not explain (body panels at grazing angles, residual limb motion) [m/s].
+  double doppler_sigma_mps = 0.08;
+  /// Rows of one object count as at most this many independent rows: neighbouring pixels of
+  /// one body share their model error, so thousands of rows are not thousands of measurements.
+  int max_effective_rows = 150;
+  /// Rows whose residual against the object's single-scan fit exceeds this many robust
+  /// standard deviations (and outlier_floor_mps) are left out: wheels, swinging limbs.
+  double outlier_sigmas = 3.0;
+  double outlier_floor_mps = 0.15;
+  double position_sigma_m = 0.7;       ///< box-centre measurement noise [m]
+  double accel_sigma_mps2 = 2.5;        ///< constant-turn-rate model: acceleration noise [m/s^2]
+  double yaw_accel_sigma_rps2 = 0.8;    ///< yaw acceleration noise [rad/s^2]
+  double initial_yaw_rate_sigma_rps = 0.4;
+  double max_initial_velocity_sigma_mps = 6.0;  ///< caps the unobservable direction at birth
+  double gate_m = 2.0;                  ///< association: cluster centroid within the predicted box grown by this [m]
+  int min_cluster_pixels = 8;           ///< smaller clusters neither start nor update tracks
+  int confirm_hits = 3;                 ///< hysteresis: updates before a track may carry labels
+  int max_misses = 5;                   ///< frames a track survives without a cluster
+  double carry_min_speed_mps = 0.8;     ///< a confirmed track carries "moving" while faster than this
+  int release_slow_frames = 3;          ///< ... and stops after this many frames below it
+  double claim_margin_m = 0.25;         ///< the predicted box grows by this when claiming pixels [m]
+  double claim_ground_clearance_m = 0.12;  ///< claimed pixels lie this far above the track's lowest point [m]
+  double claim_doppler_tolerance_mps = 0.25;  ///< claimed pixels' Doppler agrees with the track's motion
+  double max_length_m = 20.0;           ///< box size caps [m]
+  double heading_reset_rad = 0.25;      ///< a heading change beyond this re-measures the box
+  double max_width_m = 4.0;
+  double max_gap_s = 0.5;               ///< frames further apart (or going back in time) reset the tracker
+
+  void validate() const;
+};
+
+/// One tracked object in the tracker's world frame (the rig's frame at the first frame after a
+/// reset, carried forward by the estimated ego twist).
+struct Track {
+  std::int32_t id = 0;
+  /// State: centre x, y [m], velocity x, y [m/s], yaw rate [rad/s], all in the tracker's world.
+  Eigen::Matrix<double, 5, 1> x = Eigen::Matrix<double, 5, 1>::Zero();
+  Eigen::Matrix<double, 5, 5> P = Eigen::Matrix<double, 5, 5>::Identity();
+  double heading_rad = 0.0;  ///< box axis; follows the velocity once the object moves
+  double length_m = 0.0;     ///< largest extent seen along the heading [m]
+  double width_m = 0.0;      ///< largest extent seen across it [m]
+  double z_min_m = 0.0;      ///< lowest and highest moving point of the last update (rig height) [m]
+  double z_max_m = 0.0;
+  int hits = 0;              ///< frames with a cluster
+  int misses = 0;            ///< consecutive frames without one
+  int slow_frames = 0;       ///< consecutive frames slower than carry_min_speed_mps
+  bool confirmed = false;    ///< hits >= confirm_hits at some point
+
+  Eigen::Vector2d centre() const { return x.head<2>(); }
+  Eigen::Vector2d velocity() const { return x.segment<2>(2); }
+  double yaw_rate() const { return x(4); }
+  /// Confirmed, recently seen and moving: its pixels stay "moving" inside the blind band.
+  bool carries(const TrackerParams& p) const {
+    return confirmed && slow_frames < p.release_slow_frames && misses <= p.max_misses;
+  }
+};
+
+/// A Kalman filter per object with a constant-turn-rate model. Each update uses every Doppler
+/// row of the object's pixels directly, v_i = e_i . (v + omega z x (o_i - c)) (the rotation
+/// term reduces to the beam origin o_i, since e_i is parallel to p_i - o_i), and the centre of
+/// its box. Frames must come in time order; the tracker resets on a gap or a step back.
+class ObjectTracker {
+ public:
+  explicit ObjectTracker(const TrackerParams& params = {});
+
+  void reset();
+
+  /// Updates the tracks with one frame's estimate, then rewrites the estimate: pixels that a
+  /// carrying track claims inside its predicted box become moving (joining its cluster, or a
+  /// new one), clusters of one track are merged, and each tracked cluster's velocity becomes
+  /// the track's velocity at its centre (rig axes). The estimate must come from `scan`.
+  void update(const Scan& scan, MotionEstimate& estimate);
+
+  const std::vector<Track>& tracks() const { return tracks_; }
+  const TrackerParams& params() const { return params_; }
+
+ private:
+  TrackerParams params_;
+  std::vector<Track> tracks_;
+  std::int32_t next_id_ = 1;
+  bool has_pose_ = false;
+  double last_stamp_s_ = 0.0;
+  double yaw_ = 0.0;                                       ///< rig heading in the tracker's world
+  Eigen::Vector2d position_ = Eigen::Vector2d::Zero();     ///< rig origin in the tracker's world
+  Eigen::Vector3d last_ego_velocity_ = Eigen::Vector3d::Zero();
+  double last_ego_yaw_rate_ = 0.0;
+};
+
+}  // namespace fmcw::core

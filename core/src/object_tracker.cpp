@@ -1,0 +1,538 @@
+#include "fmcw/core/object_tracker.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "fmcw/core/check.hpp"
+#include "fmcw/core/motion_pipeline.hpp"
+
+namespace fmcw::core {
+
+void TrackerParams::validate() const {
+  FMCW_CHECK_ARG(doppler_sigma_mps > 0.0, "tracking: doppler_sigma_mps must be > 0, got ",
+                 doppler_sigma_mps);
+  FMCW_CHECK_ARG(max_effective_rows >= 1, "tracking: max_effective_rows must be >= 1, got ",
+                 max_effective_rows);
+  FMCW_CHECK_ARG(outlier_sigmas > 0.0 && outlier_floor_mps > 0.0,
+                 "tracking: outlier thresholds must be > 0");
+  FMCW_CHECK_ARG(position_sigma_m > 0.0, "tracking: position_sigma_m must be > 0, got ",
+                 position_sigma_m);
+  FMCW_CHECK_ARG(accel_sigma_mps2 > 0.0 && yaw_accel_sigma_rps2 > 0.0,
+                 "tracking: process noise must be > 0");
+  FMCW_CHECK_ARG(initial_yaw_rate_sigma_rps > 0.0 && max_initial_velocity_sigma_mps > 0.0,
+                 "tracking: initial uncertainties must be > 0");
+  FMCW_CHECK_ARG(gate_m >= 0.0 && claim_margin_m >= 0.0,
+                 "tracking: gate_m and claim_margin_m must be >= 0");
+  FMCW_CHECK_ARG(min_cluster_pixels >= 3, "tracking: min_cluster_pixels must be >= 3, got ",
+                 min_cluster_pixels);
+  FMCW_CHECK_ARG(confirm_hits >= 1 && max_misses >= 0 && release_slow_frames >= 1,
+                 "tracking: confirm_hits and release_slow_frames must be >= 1, max_misses >= 0");
+  FMCW_CHECK_ARG(claim_doppler_tolerance_mps > 0.0,
+                 "tracking: claim_doppler_tolerance_mps must be > 0");
+  FMCW_CHECK_ARG(max_length_m > 0.0 && max_width_m > 0.0, "tracking: box size caps must be > 0");
+  FMCW_CHECK_ARG(max_gap_s > 0.0, "tracking: max_gap_s must be > 0, got ", max_gap_s);
+}
+
+namespace {
+using Vec5 = Eigen::Matrix<double, 5, 1>;
+using Mat5 = Eigen::Matrix<double, 5, 5>;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+Eigen::Matrix2d rotation(double yaw) {
+  Eigen::Matrix2d r;
+  r << std::cos(yaw), -std::sin(yaw), std::sin(yaw), std::cos(yaw);
+  return r;
+}
+
+// Constant turn rate over dt: the centre moves along an arc, the velocity turns by omega dt.
+Vec5 propagate(const Vec5& x, double dt) {
+  Vec5 out = x;
+  const double w = x(4);
+  const double a = w * dt;
+  const double s = std::sin(a);
+  const double c = std::cos(a);
+  const double vx = x(2);
+  const double vy = x(3);
+  if (std::abs(w) < 1e-9) {
+    out(0) += vx * dt;
+    out(1) += vy * dt;
+  } else {
+    out(0) += (s * vx - (1.0 - c) * vy) / w;
+    out(1) += ((1.0 - c) * vx + s * vy) / w;
+  }
+  out(2) = c * vx - s * vy;
+  out(3) = s * vx + c * vy;
+  return out;
+}
+
+void predict(Track& t, double dt, const TrackerParams& p) {
+  if (dt <= 0.0) return;
+  // Jacobian by central differences: the model is smooth and five columns are cheap.
+  Mat5 F;
+  for (int k = 0; k < 5; ++k) {
+    const double h = 1e-6 * std::max(1.0, std::abs(t.x(k)));
+    Vec5 a = t.x;
+    Vec5 b = t.x;
+    a(k) += h;
+    b(k) -= h;
+    F.col(k) = (propagate(a, dt) - propagate(b, dt)) / (2.0 * h);
+  }
+  const double q = p.accel_sigma_mps2 * p.accel_sigma_mps2;
+  Mat5 Q = Mat5::Zero();
+  for (int k = 0; k < 2; ++k) {
+    Q(k, k) = q * dt * dt * dt * dt / 4.0;
+    Q(k, k + 2) = Q(k + 2, k) = q * dt * dt * dt / 2.0;
+    Q(k + 2, k + 2) = q * dt * dt;
+  }
+  Q(4, 4) = p.yaw_accel_sigma_rps2 * p.yaw_accel_sigma_rps2 * dt * dt;
+  t.x = propagate(t.x, dt);
+  t.P = F * t.P * F.transpose() + Q;
+  t.heading_rad += t.x(4) * dt;
+}
+
+// Oriented box in the tracker's world, for point-in-box tests.
+struct Box {
+  Eigen::Vector2d centre;
+  Eigen::Vector2d u;  // along the heading
+  double half_l = 0.0;
+  double half_w = 0.0;
+  bool contains(const Eigen::Vector2d& q, double grow) const {
+    const Eigen::Vector2d d = q - centre;
+    const double a = d.dot(u);
+    const double b = -d.x() * u.y() + d.y() * u.x();
+    return std::abs(a) <= half_l + grow && std::abs(b) <= half_w + grow;
+  }
+};
+
+Box box_of(const Track& t) {
+  Box b;
+  b.centre = t.centre();
+  b.u = Eigen::Vector2d(std::cos(t.heading_rad), std::sin(t.heading_rad));
+  b.half_l = 0.5 * std::max(t.length_m, 0.4);
+  b.half_w = 0.5 * std::max(t.width_m, 0.4);
+  return b;
+}
+
+// One pixel's Doppler row in the tracker's world: y = e . v + omega * e . (z x (o - c)).
+struct Row {
+  Eigen::Vector2d e;  // horizontal part of the unit beam direction
+  Eigen::Vector2d o;  // beam origin
+  double y = 0.0;     // ego-compensated Doppler: e . (velocity of the point)
+  double residual = 0.0;
+};
+
+double predicted(const Row& r, const Vec5& x) {
+  const Eigen::Vector2d d = r.o - x.head<2>();
+  return r.e.dot(x.segment<2>(2)) + x(4) * (r.e.y() * d.x() - r.e.x() * d.y());
+}
+
+// A group of pixels measured as one object this frame.
+struct Group {
+  std::vector<std::uint32_t> pixels;
+  std::vector<std::int32_t> clusters;  // labels merged into it
+  int claimed = 0;
+};
+}  // namespace
+
+ObjectTracker::ObjectTracker(const TrackerParams& params) : params_(params) { params_.validate(); }
+
+void ObjectTracker::reset() {
+  tracks_.clear();
+  has_pose_ = false;
+  yaw_ = 0.0;
+  position_.setZero();
+  last_ego_velocity_.setZero();
+  last_ego_yaw_rate_ = 0.0;
+}
+
+void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
+  const TrackerParams& p = params_;
+  if (!est.ok() || !est.ego.valid) {  // nothing to compensate the Doppler with: start over
+    reset();
+    return;
+  }
+  const Eigen::Vector3d V = est.ego.velocity_mps;
+  const double w_ego = est.ego_yaw_rate_estimated ? est.ego_angular_velocity_rps.z() : 0.0;
+  double dt = 0.0;
+  if (has_pose_) {
+    dt = scan.stamp_s - last_stamp_s_;
+    if (!(dt > 0.0) || dt > p.max_gap_s) reset();
+  }
+  if (has_pose_ && dt > 0.0) {
+    // Midpoint rule on the mean of the two frames' twists.
+    const double w_mean = 0.5 * (w_ego + last_ego_yaw_rate_);
+    const Eigen::Vector2d v_mean = 0.5 * (V.head<2>() + last_ego_velocity_.head<2>());
+    position_ += rotation(yaw_ + 0.5 * w_mean * dt) * v_mean * dt;
+    yaw_ += w_mean * dt;
+    for (Track& t : tracks_) predict(t, dt, p);
+  } else {
+    dt = 0.0;
+  }
+  has_pose_ = true;
+  last_stamp_s_ = scan.stamp_s;
+  last_ego_velocity_ = V;
+  last_ego_yaw_rate_ = w_ego;
+
+  const Eigen::Matrix2d R = rotation(yaw_);
+  const Eigen::Vector3d omega(0.0, 0.0, w_ego);
+  const std::vector<Eigen::Vector3d> col_origin = column_origins(scan);
+  auto world_xy = [&](const Eigen::Vector3d& q) -> Eigen::Vector2d {
+    return R * q.head<2>() + position_;
+  };
+  auto row_of = [&](std::uint32_t i) {
+    const auto c = static_cast<std::size_t>(i % static_cast<std::uint32_t>(scan.cols));
+    const Eigen::Vector3d o = col_origin[c];
+    const Eigen::Vector3d e = (scan.position(i) - o).normalized();
+    Row r;
+    r.e = R * e.head<2>();
+    r.o = world_xy(o);
+    r.y = scan.radial_velocity_mps[i] + e.dot(V + omega.cross(o));
+    return r;
+  };
+
+  // Pixels of each cluster.
+  const std::size_t k = est.clusters.size();
+  std::vector<std::vector<std::uint32_t>> cluster_pixels(k);
+  for (std::size_t i = 0; i < est.labels.size(); ++i) {
+    const std::int32_t l = est.labels[i];
+    if (l >= 1)
+      cluster_pixels[static_cast<std::size_t>(l - 1)].push_back(static_cast<std::uint32_t>(i));
+  }
+  std::vector<Eigen::Vector2d> cluster_centroid(k);
+  for (std::size_t c = 0; c < k; ++c) cluster_centroid[c] = world_xy(est.clusters[c].centroid_m);
+
+  // Association: each cluster joins the track whose predicted box (grown by the gate) holds
+  // its centroid and whose centre is nearest. A track's nearest cluster is its primary one;
+  // further clusters join it only when they lie inside the box itself and move as it does
+  // (the two ends of a vehicle split by the blind band).
+  std::vector<Group> groups(tracks_.size());
+  std::vector<int> owner(k, -1);
+  std::vector<Box> boxes(tracks_.size());
+  for (std::size_t t = 0; t < tracks_.size(); ++t) boxes[t] = box_of(tracks_[t]);
+  for (std::size_t c = 0; c < k; ++c) {
+    if (static_cast<int>(cluster_pixels[c].size()) < p.min_cluster_pixels) continue;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t t = 0; t < tracks_.size(); ++t) {
+      if (!boxes[t].contains(cluster_centroid[c], p.gate_m)) continue;
+      const double d = (cluster_centroid[c] - boxes[t].centre).norm();
+      if (d < best) {
+        best = d;
+        owner[c] = static_cast<int>(t);
+      }
+    }
+  }
+  for (std::size_t t = 0; t < tracks_.size(); ++t) {
+    std::vector<std::size_t> mine;
+    for (std::size_t c = 0; c < k; ++c) {
+      if (owner[c] == static_cast<int>(t)) mine.push_back(c);
+    }
+    std::sort(mine.begin(), mine.end(), [&](std::size_t a, std::size_t b) {
+      const double da = (cluster_centroid[a] - boxes[t].centre).squaredNorm();
+      const double db = (cluster_centroid[b] - boxes[t].centre).squaredNorm();
+      return da != db ? da < db : a < b;
+    });
+    for (std::size_t n = 0; n < mine.size(); ++n) {
+      const std::size_t c = mine[n];
+      bool joins = n == 0;
+      if (!joins && boxes[t].contains(cluster_centroid[c], p.claim_margin_m)) {
+        std::vector<double> dev;
+        for (std::uint32_t i : cluster_pixels[c]) {
+          const Row r = row_of(i);
+          dev.push_back(std::abs(r.y - predicted(r, tracks_[t].x)));
+        }
+        std::nth_element(dev.begin(), dev.begin() + static_cast<std::ptrdiff_t>(dev.size() / 2),
+                         dev.end());
+        joins = dev[dev.size() / 2] < p.claim_doppler_tolerance_mps;
+      }
+      if (joins) {
+        groups[t].clusters.push_back(static_cast<std::int32_t>(c + 1));
+        groups[t].pixels.insert(groups[t].pixels.end(), cluster_pixels[c].begin(),
+                                cluster_pixels[c].end());
+      } else {
+        owner[c] = -1;
+      }
+    }
+  }
+
+  // Carrying tracks claim static pixels inside their predicted box that move as they do: the
+  // part of an object inside the Doppler blind band.
+  std::vector<std::size_t> carrying;
+  for (std::size_t t = 0; t < tracks_.size(); ++t) {
+    if (tracks_[t].carries(p)) carrying.push_back(t);
+  }
+  if (!carrying.empty()) {
+    for (std::size_t i = 0; i < est.labels.size(); ++i) {
+      if (est.labels[i] != 0) continue;
+      const Eigen::Vector3d q = scan.position(i);
+      const Eigen::Vector2d qw = world_xy(q);
+      for (std::size_t t : carrying) {
+        const Track& tr = tracks_[t];
+        if (q.z() < tr.z_min_m + p.claim_ground_clearance_m ||
+            q.z() > tr.z_max_m + p.claim_margin_m)
+          continue;
+        if (!boxes[t].contains(qw, p.claim_margin_m)) continue;
+        const Row r = row_of(static_cast<std::uint32_t>(i));
+        if (std::abs(r.y - predicted(r, tr.x)) > p.claim_doppler_tolerance_mps) continue;
+        groups[t].pixels.push_back(static_cast<std::uint32_t>(i));
+        ++groups[t].claimed;
+        break;
+      }
+    }
+  }
+
+  // Measurement update of every track that has pixels this frame.
+  const double sensor_w = 1.0 / (p.doppler_sigma_mps * p.doppler_sigma_mps);
+  const double pos_w = 1.0 / (p.position_sigma_m * p.position_sigma_m);
+  auto measure = [&](Track& tr, const Group& g, bool born) {
+    // Box: heading from the velocity once the object moves, extents in that frame, centre
+    // anchored at the visible end when less than the whole length is seen.
+    const Eigen::Vector2d v = tr.velocity();
+    bool resize = born;
+    if (v.norm() > 1.0) {
+      const double heading = std::atan2(v.y(), v.x());
+      // Extents measured along a heading that has since swung (a poor first velocity) say
+      // nothing about the box along the new one: measure them afresh.
+      resize = resize ||
+               std::abs(std::remainder(heading - tr.heading_rad, 2.0 * M_PI)) > p.heading_reset_rad;
+      tr.heading_rad = heading;
+    }
+    const Eigen::Vector2d u(std::cos(tr.heading_rad), std::sin(tr.heading_rad));
+    const Eigen::Vector2d wv(-u.y(), u.x());
+    // The box is measured on the pixels one scan found moving: claimed pixels are inside the
+    // predicted box by construction and would let it grow over whatever stands next to it.
+    const std::size_t own = g.pixels.size() - static_cast<std::size_t>(g.claimed);
+    Eigen::Vector2d ref = Eigen::Vector2d::Zero();
+    std::vector<Eigen::Vector2d> pts;
+    pts.reserve(own);
+    double zmin = std::numeric_limits<double>::infinity();
+    double zmax = -zmin;
+    for (std::size_t n = 0; n < own; ++n) {
+      const Eigen::Vector3d q = scan.position(g.pixels[n]);
+      pts.push_back(world_xy(q));
+      ref += pts.back();
+      zmin = std::min(zmin, q.z());
+      zmax = std::max(zmax, q.z());
+    }
+    ref /= static_cast<double>(std::max<std::size_t>(own, 1));
+    double a0 = 0.0, a1 = 0.0, b0 = 0.0, b1 = 0.0;
+    for (const Eigen::Vector2d& q : pts) {
+      const Eigen::Vector2d d = q - ref;
+      a0 = std::min(a0, d.dot(u));
+      a1 = std::max(a1, d.dot(u));
+      b0 = std::min(b0, d.dot(wv));
+      b1 = std::max(b1, d.dot(wv));
+    }
+    Eigen::Vector2d centre = tr.centre();
+    if (own > 0) {
+      tr.length_m = std::min(resize ? a1 - a0 : std::max(tr.length_m, a1 - a0), p.max_length_m);
+      tr.width_m = std::min(resize ? b1 - b0 : std::max(tr.width_m, b1 - b0), p.max_width_m);
+      tr.z_min_m = zmin;  // this frame's: the ground under an object changes (curbs)
+      tr.z_max_m = zmax;
+      const Eigen::Vector2d s = position_ - ref;  // the sensor, relative to ref
+      auto anchor = [](double lo, double hi, double size, double sensor) {
+        if (sensor < lo) return lo + 0.5 * size;
+        if (sensor > hi) return hi - 0.5 * size;
+        return 0.5 * (lo + hi);
+      };
+      centre = ref + anchor(a0, a1, tr.length_m, s.dot(u)) * u +
+               anchor(b0, b1, tr.width_m, s.dot(wv)) * wv;
+    }
+    if (born) {  // the velocity prior already holds this frame's Doppler
+      tr.x.head<2>() = centre;
+      return;
+    }
+
+    // Doppler rows, without the pixels that do not move with the body.
+    std::vector<Row> rows;
+    rows.reserve(g.pixels.size());
+    for (std::uint32_t i : g.pixels) rows.push_back(row_of(i));
+    std::vector<double> dev(rows.size());
+    for (std::size_t n = 0; n < rows.size(); ++n) {
+      rows[n].residual = rows[n].y - predicted(rows[n], tr.x);
+      dev[n] = rows[n].residual;
+    }
+    std::nth_element(dev.begin(), dev.begin() + static_cast<std::ptrdiff_t>(dev.size() / 2),
+                     dev.end());
+    const double med = dev[dev.size() / 2];
+    for (double& d : dev) d = std::abs(d - med);
+    std::nth_element(dev.begin(), dev.begin() + static_cast<std::ptrdiff_t>(dev.size() / 2),
+                     dev.end());
+    const double cut =
+        std::max(p.outlier_floor_mps, p.outlier_sigmas * 1.4826 * dev[dev.size() / 2]);
+    std::size_t used = 0;
+    for (const Row& r : rows) used += std::abs(r.residual - med) <= cut ? 1 : 0;
+    const double w =
+        sensor_w * std::min(1.0, static_cast<double>(p.max_effective_rows) /
+                                     static_cast<double>(std::max<std::size_t>(used, 1)));
+    Mat5 info = Mat5::Zero();
+    Vec5 grad = Vec5::Zero();
+    const Vec5& x = tr.x;
+    for (const Row& r : rows) {
+      if (std::abs(r.residual - med) > cut) continue;
+      const Eigen::Vector2d d = r.o - x.head<2>();
+      Vec5 h;
+      h << -x(4) * r.e.y(), x(4) * r.e.x(), r.e.x(), r.e.y(), r.e.y() * d.x() - r.e.x() * d.y();
+      info.noalias() += w * h * h.transpose();
+      grad += w * h * r.residual;
+    }
+    // The box centre jumps when occlusion changes what is visible: Huber-weighted, so a jump
+    // does not drag velocity and yaw rate with it.
+    const Eigen::Vector2d innovation =
+        own > 0 ? Eigen::Vector2d(centre - x.head<2>()) : Eigen::Vector2d::Zero();
+    const double huber = 2.0 * p.position_sigma_m;
+    const double pw =
+        own > 0 ? pos_w * std::min(1.0, huber / std::max(innovation.norm(), 1e-12)) : 0.0;
+    info.topLeftCorner<2, 2>() += pw * Eigen::Matrix2d::Identity();
+    grad.head<2>() += pw * innovation;
+    const Mat5 P_inv = tr.P.inverse();
+    const Mat5 P_new = (P_inv + info).inverse();
+    tr.x += P_new * grad;
+    tr.P = 0.5 * (P_new + P_new.transpose());
+  };
+
+  for (std::size_t t = 0; t < tracks_.size(); ++t) {
+    Track& tr = tracks_[t];
+    if (groups[t].pixels.empty()) {
+      ++tr.misses;
+    } else {
+      measure(tr, groups[t], false);
+      ++tr.hits;
+      tr.misses = 0;
+    }
+    if (tr.hits >= p.confirm_hits) tr.confirmed = true;
+    tr.slow_frames = tr.velocity().norm() < p.carry_min_speed_mps ? tr.slow_frames + 1 : 0;
+  }
+
+  // New tracks from the clusters no track took.
+  for (std::size_t c = 0; c < k; ++c) {
+    const ClusterEstimate& ce = est.clusters[c];
+    if (owner[c] >= 0 || static_cast<int>(cluster_pixels[c].size()) < p.min_cluster_pixels ||
+        !ce.velocity.valid)
+      continue;
+    Track tr;
+    tr.id = next_id_++;
+    const Eigen::Vector2d v = R * ce.velocity.velocity_mps.head<2>();
+    tr.x.segment<2>(2) = v;
+    tr.heading_rad = v.norm() > 1.0 ? std::atan2(v.y(), v.x()) : 0.0;
+    // The single-scan covariance, its unobservable direction capped, as the velocity prior.
+    Eigen::Matrix2d cov = R * ce.velocity.covariance.topLeftCorner<2, 2>() * R.transpose();
+    if (!cov.allFinite())
+      cov = Eigen::Matrix2d::Identity() * p.max_initial_velocity_sigma_mps *
+            p.max_initial_velocity_sigma_mps;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(0.5 * (cov + cov.transpose()));
+    const double cap = p.max_initial_velocity_sigma_mps * p.max_initial_velocity_sigma_mps;
+    const double floor = p.doppler_sigma_mps * p.doppler_sigma_mps;
+    const Eigen::Vector2d ev = eig.eigenvalues().cwiseMax(floor).cwiseMin(cap);
+    tr.P = Mat5::Zero();
+    tr.P.topLeftCorner<2, 2>() =
+        Eigen::Matrix2d::Identity() * (p.position_sigma_m * p.position_sigma_m);
+    tr.P.block<2, 2>(2, 2) = eig.eigenvectors() * ev.asDiagonal() * eig.eigenvectors().transpose();
+    tr.P(4, 4) = p.initial_yaw_rate_sigma_rps * p.initial_yaw_rate_sigma_rps;
+    Group g;
+    g.clusters.push_back(static_cast<std::int32_t>(c + 1));
+    g.pixels = cluster_pixels[c];
+    measure(tr, g, true);
+    tr.hits = 1;
+    if (tr.hits >= p.confirm_hits) tr.confirmed = true;
+    owner[c] = static_cast<int>(tracks_.size());
+    tracks_.push_back(tr);
+    groups.push_back(g);
+  }
+
+  // Rewrite the estimate: one label per tracked group, the others as they were; labels
+  // renumbered by first pixel (row-major), as the pipeline numbers them.
+  const std::size_t n_groups = groups.size();
+  std::vector<std::int32_t> group_of_label(k + 1, -1);  // old label -> group
+  for (std::size_t t = 0; t < n_groups; ++t) {
+    for (std::int32_t l : groups[t].clusters)
+      group_of_label[static_cast<std::size_t>(l)] = static_cast<std::int32_t>(t);
+  }
+  std::vector<std::int32_t> claimed_by(est.labels.size(), -1);
+  for (std::size_t t = 0; t < n_groups; ++t) {
+    for (std::size_t n = groups[t].pixels.size() - static_cast<std::size_t>(groups[t].claimed);
+         n < groups[t].pixels.size(); ++n) {
+      claimed_by[groups[t].pixels[n]] = static_cast<std::int32_t>(t);
+    }
+  }
+  // Key of a pixel's new object: group t -> t, untracked old label l -> n_groups + l - 1.
+  std::vector<std::int32_t> new_label(n_groups + k, 0);
+  std::vector<std::int32_t> key_of_new(1, -1);
+  std::int32_t next = 0;
+  int moved_to_moving = 0;
+  for (std::size_t i = 0; i < est.labels.size(); ++i) {
+    std::int32_t key = -1;
+    const std::int32_t l = est.labels[i];
+    if (l >= 1) {
+      const std::int32_t g = group_of_label[static_cast<std::size_t>(l)];
+      key = g >= 0 ? g : static_cast<std::int32_t>(n_groups) + l - 1;
+    } else if (claimed_by[i] >= 0) {
+      key = claimed_by[i];
+      ++moved_to_moving;
+    }
+    if (key < 0) continue;
+    std::int32_t& nl = new_label[static_cast<std::size_t>(key)];
+    if (nl == 0) {
+      nl = ++next;
+      key_of_new.push_back(key);
+    }
+    est.labels[i] = nl;
+  }
+  est.num_static_pixels -= moved_to_moving;
+
+  std::vector<ClusterEstimate> out(static_cast<std::size_t>(next));
+  std::vector<int> count(static_cast<std::size_t>(next), 0);
+  for (std::size_t i = 0; i < est.labels.size(); ++i) {
+    const std::int32_t l = est.labels[i];
+    if (l < 1) continue;
+    ClusterEstimate& ce = out[static_cast<std::size_t>(l - 1)];
+    ce.centroid_m += scan.position(i);
+    ++count[static_cast<std::size_t>(l - 1)];
+  }
+  const Eigen::Matrix2d Rt = R.transpose();
+  for (std::int32_t l = 1; l <= next; ++l) {
+    ClusterEstimate& ce = out[static_cast<std::size_t>(l - 1)];
+    const std::int32_t key = key_of_new[static_cast<std::size_t>(l)];
+    ce.id = l;
+    ce.num_pixels = count[static_cast<std::size_t>(l - 1)];
+    ce.centroid_m /= static_cast<double>(ce.num_pixels);
+    if (key >= static_cast<std::int32_t>(n_groups)) {  // untracked: as the single scan saw it
+      const ClusterEstimate& old = est.clusters[static_cast<std::size_t>(key) - n_groups];
+      ce.velocity = old.velocity;
+      ce.scan_velocity_mps = old.velocity.velocity_mps;
+      continue;
+    }
+    const Track& tr = tracks_[static_cast<std::size_t>(key)];
+    const Group& g = groups[static_cast<std::size_t>(key)];
+    ce.scan_velocity_mps =
+        g.clusters.empty()
+            ? Eigen::Vector3d::Constant(kNaN)
+            : est.clusters[static_cast<std::size_t>(g.clusters.front() - 1)].velocity.velocity_mps;
+    ce.track_id = tr.id;
+    ce.track_hits = tr.hits;
+    ce.carried_pixels = g.claimed;
+    ce.yaw_rate_rps = tr.yaw_rate();
+    ce.centre_m = Eigen::Vector3d::Zero();
+    ce.centre_m.head<2>() = Rt * (tr.centre() - position_);
+    ce.centre_m.z() = 0.5 * (tr.z_min_m + tr.z_max_m);
+    VelocityEstimate& v = ce.velocity;
+    v = g.clusters.empty()
+            ? VelocityEstimate{}
+            : est.clusters[static_cast<std::size_t>(g.clusters.front() - 1)].velocity;
+    v.velocity_mps = Eigen::Vector3d::Zero();
+    v.velocity_mps.head<2>() = Rt * tr.velocity();
+    v.covariance = Eigen::Matrix3d::Zero();
+    v.covariance.topLeftCorner<2, 2>() = Rt * tr.P.block<2, 2>(2, 2) * R;
+    v.num_points = ce.num_pixels;
+    v.valid = true;
+  }
+  est.clusters = std::move(out);
+
+  tracks_.erase(std::remove_if(tracks_.begin(), tracks_.end(),
+                               [&](const Track& t) { return t.misses > p.max_misses; }),
+                tracks_.end());
+}
+
+}  // namespace fmcw::core
