@@ -216,7 +216,11 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     if (static_cast<int>(cluster_pixels[c].size()) < p.min_cluster_pixels) continue;
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t t = 0; t < tracks_.size(); ++t) {
-      if (!boxes[t].contains(cluster_centroid[c], p.gate_m)) continue;
+      // The gate widens with the track's position uncertainty: a young track's tangential
+      // velocity is hardly known.
+      const double pos_var = tracks_[t].P.topLeftCorner<2, 2>().eigenvalues().real().maxCoeff();
+      const double gate = p.gate_m + 3.0 * std::sqrt(std::max(0.0, pos_var));
+      if (!boxes[t].contains(cluster_centroid[c], gate)) continue;
       const double d = (cluster_centroid[c] - boxes[t].centre).norm();
       if (d < best) {
         best = d;
@@ -303,7 +307,11 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     const Eigen::Vector2d wv(-u.y(), u.x());
     // The box is measured on the pixels one scan found moving: claimed pixels are inside the
     // predicted box by construction and would let it grow over whatever stands next to it.
-    const std::size_t own = g.pixels.size() - static_cast<std::size_t>(g.claimed);
+    // When the track claimed more than one scan found moving, what moved is a Doppler slice of
+    // the object (the rest is in the blind band), not its visible outline: the box is then
+    // left as predicted.
+    const std::size_t found = g.pixels.size() - static_cast<std::size_t>(g.claimed);
+    const std::size_t own = born || static_cast<std::size_t>(g.claimed) <= found ? found : 0;
     Eigen::Vector2d ref = Eigen::Vector2d::Zero();
     std::vector<Eigen::Vector2d> pts;
     pts.reserve(own);
@@ -329,7 +337,7 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     if (own > 0) {
       tr.length_m = std::min(resize ? a1 - a0 : std::max(tr.length_m, a1 - a0), p.max_length_m);
       tr.width_m = std::min(resize ? b1 - b0 : std::max(tr.width_m, b1 - b0), p.max_width_m);
-      tr.z_min_m = zmin;  // this frame's: the ground under an object changes (curbs)
+      tr.z_min_m = zmin;  // this frame's: the ground under an object changes at curbs
       tr.z_max_m = zmax;
       const Eigen::Vector2d s = position_ - ref;  // the sensor, relative to ref
       auto anchor = [](double lo, double hi, double size, double sensor) {
@@ -378,13 +386,13 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
       info.noalias() += w * h * h.transpose();
       grad += w * h * r.residual;
     }
-    // The box centre jumps when occlusion changes what is visible: Huber-weighted, so a jump
-    // does not drag velocity and yaw rate with it.
+    // The box centre jumps when occlusion changes what is visible: Huber-weighted beyond 3
+    // standard deviations of the innovation, so a jump does not drag velocity and yaw rate.
     const Eigen::Vector2d innovation =
         own > 0 ? Eigen::Vector2d(centre - x.head<2>()) : Eigen::Vector2d::Zero();
-    const double huber = 2.0 * p.position_sigma_m;
-    const double pw =
-        own > 0 ? pos_w * std::min(1.0, huber / std::max(innovation.norm(), 1e-12)) : 0.0;
+    const Eigen::Matrix2d S = tr.P.topLeftCorner<2, 2>() + Eigen::Matrix2d::Identity() / pos_w;
+    const double mahalanobis = std::sqrt(innovation.dot(S.inverse() * innovation));
+    const double pw = own > 0 ? pos_w * std::min(1.0, 3.0 / std::max(mahalanobis, 1e-12)) : 0.0;
     info.topLeftCorner<2, 2>() += pw * Eigen::Matrix2d::Identity();
     grad.head<2>() += pw * innovation;
     const Mat5 P_inv = tr.P.inverse();
@@ -426,15 +434,28 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     const double cap = p.max_initial_velocity_sigma_mps * p.max_initial_velocity_sigma_mps;
     const double floor = p.doppler_sigma_mps * p.doppler_sigma_mps;
     const Eigen::Vector2d ev = eig.eigenvalues().cwiseMax(floor).cwiseMin(cap);
-    tr.P = Mat5::Zero();
-    tr.P.topLeftCorner<2, 2>() =
-        Eigen::Matrix2d::Identity() * (p.position_sigma_m * p.position_sigma_m);
-    tr.P.block<2, 2>(2, 2) = eig.eigenvectors() * ev.asDiagonal() * eig.eigenvectors().transpose();
-    tr.P(4, 4) = p.initial_yaw_rate_sigma_rps * p.initial_yaw_rate_sigma_rps;
     Group g;
     g.clusters.push_back(static_cast<std::int32_t>(c + 1));
     g.pixels = cluster_pixels[c];
-    measure(tr, g, true);
+    measure(tr, g, true);  // places the box
+    // One scan measures v_app = v + omega z x (o - c): velocity and yaw rate are known only
+    // along that line. The prior says so: omega ~ N(0, s0^2) and v = v_app - omega z x (o - c),
+    // correlated from the start, so later positions move the estimate along the line instead
+    // of fighting the Doppler.
+    Eigen::Vector2d o_mean = Eigen::Vector2d::Zero();
+    for (std::uint32_t i : g.pixels) o_mean += row_of(i).o;
+    o_mean /= static_cast<double>(g.pixels.size());
+    const Eigen::Vector2d d = o_mean - tr.centre();
+    const Eigen::Vector2d sv(-d.y(), d.x());
+    const double s0 = p.initial_yaw_rate_sigma_rps;
+    tr.P = Mat5::Zero();
+    tr.P.topLeftCorner<2, 2>() =
+        Eigen::Matrix2d::Identity() * (p.position_sigma_m * p.position_sigma_m);
+    tr.P.block<2, 2>(2, 2) = eig.eigenvectors() * ev.asDiagonal() * eig.eigenvectors().transpose() +
+                             s0 * s0 * sv * sv.transpose();
+    tr.P.block<2, 1>(2, 4) = -s0 * s0 * sv;
+    tr.P.block<1, 2>(4, 2) = -s0 * s0 * sv.transpose();
+    tr.P(4, 4) = s0 * s0;
     tr.hits = 1;
     if (tr.hits >= p.confirm_hits) tr.confirmed = true;
     owner[c] = static_cast<int>(tracks_.size());

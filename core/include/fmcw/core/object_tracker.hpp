@@ -55,7 +55,7 @@ struct Track {
   double heading_rad = 0.0;  ///< box axis; follows the velocity once the object moves
   double length_m = 0.0;     ///< largest extent seen along the heading [m]
   double width_m = 0.0;      ///< largest extent seen across it [m]
-  double z_min_m = 0.0;      ///< lowest and highest moving point of the last update (rig height) [m]
+  double z_min_m = 0.0;      ///< lowest and highest point of the last box measurement (rig height) [m]
   double z_max_m = 0.0;
   int hits = 0;              ///< frames with a cluster
   int misses = 0;            ///< consecutive frames without one
