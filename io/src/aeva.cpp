@@ -84,10 +84,15 @@ AevaLayout detect_aeva_layout(const std::string& path, std::uintmax_t size_bytes
 }
 
 AevaRecords read_aeva(const std::string& path, AevaLayout layout) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw std::invalid_argument(concat(path, ": cannot open Aeva file: ", std::strerror(errno)));
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw std::runtime_error(concat(path, ": read failed"));
+  const std::streamoff size = in.tellg();
+  std::error_code ec;
+  if (size < 0 || !fs::is_regular_file(path, ec)) throw std::invalid_argument(concat(path, ": not a readable file"));
+  std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
+  in.seekg(0);
+  in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  if (!in) throw std::runtime_error(concat(path, ": read failed"));
   if (bytes.empty()) throw std::invalid_argument(concat(path, ": empty Aeva file (no records)"));
   if (layout == AevaLayout::kAuto) layout = detect_aeva_layout(path, bytes.size());
   const std::size_t stride = record_bytes(layout);

@@ -130,8 +130,8 @@ void bind_pipeline(py::module_& m) {
            }),
            py::arg("params"), py::kw_only(), py::arg("seed") = py::none(), py::arg("num_threads") = py::none())
       .def_property_readonly("params", [](const core::MotionPipeline& p) { return p.params(); }, "a copy")
+      // The GIL stays held: a pipeline keeps working buffers, so two threads must not share one.
       .def("process", &core::MotionPipeline::process, py::arg("scan"), py::arg("frame_index") = 0,
-           py::call_guard<py::gil_scoped_release>(),
            "Runs the method. ValueError for a malformed scan; a scan with nothing to estimate gives "
            "ok == False and a status.");
 }

@@ -91,8 +91,7 @@ void bind_simulation(py::module_& m) {
               throw py::index_error("frame " + std::to_string(k) + " of a scenario with " + std::to_string(s.size()) +
                                     " frames");
             }
-            py::gil_scoped_release release;
-            return s.frame(k);
+            return s.frame(k);  // GIL held: the simulator's buffers belong to this scenario
           },
           py::arg("k"), "Simulates frame k: the frame `fmcw simulate` writes as frames/k (same seed, same values).");
 }
