@@ -204,11 +204,17 @@ PcdCloud read_pcd(const std::string& path) {
     const auto needed = static_cast<std::streamoff>(n * stride);
     FMCW_CHECK_ARG(available >= needed, path, ": truncated PCD: header promises ", n, " points of ", stride,
                    " bytes (", needed, " bytes) but the file holds ", available, " bytes of data");
-    FMCW_CHECK_ARG(available == needed, path, ": PCD data is ", available, " bytes but the header describes ", needed,
-                   " (", n, " points of ", stride, " bytes); the header does not match the data");
-    std::vector<unsigned char> buf(n * stride);
+    // PCL's own writer pads binary files with zeros to a memory page past the data; any other
+    // surplus means the header does not describe the data.
+    constexpr std::streamoff kMaxPclPadding = 65536;
+    std::vector<unsigned char> buf(static_cast<std::size_t>(std::min(available, needed + kMaxPclPadding)));
     in.read(reinterpret_cast<char*>(buf.data()), static_cast<std::streamsize>(buf.size()));
     FMCW_CHECK_ARG(static_cast<std::size_t>(in.gcount()) == buf.size(), path, ": read error in PCD data");
+    const bool zero_padding = available - needed < kMaxPclPadding &&
+                              std::all_of(buf.begin() + needed, buf.end(), [](unsigned char b) { return b == 0; });
+    FMCW_CHECK_ARG(available == needed || zero_padding, path, ": PCD data is ", available,
+                   " bytes but the header describes ", needed, " (", n, " points of ", stride,
+                   " bytes); the header does not match the data");
     std::size_t offset = 0;
     std::size_t out_field = 0;
     for (const auto& rf : raw) {

@@ -131,7 +131,7 @@ TEST_F(PcdTest, TruncatedDataIsReportedWithSizes) {
 TEST_F(PcdTest, HeaderThatLiesAboutItsSizeIsRejected) {
   write_text("p.pcd", header("x y z v", "4 4 4 4", "F F F F", 2, 2, 5) + std::string(80, '\0'));
   expect_error("p.pcd", {"p.pcd:", "POINTS is 5 but WIDTH x HEIGHT is 2 x 2 = 4"});
-  write_text("q.pcd", header("x y z v", "4 4 4 4", "F F F F", 2, 2, 4) + std::string(80, '\0'));
+  write_text("q.pcd", header("x y z v", "4 4 4 4", "F F F F", 2, 2, 4) + std::string(64, '\0') + std::string(16, '\1'));
   expect_error("q.pcd", {"80 bytes but the header describes 64"});
   write_text("r.pcd", header("x y z v", "4 4 4", "F F F F", 2, 2, 4));
   expect_error("r.pcd", {"r.pcd:3: SIZE has 3 entries but FIELDS has 4"});
@@ -141,6 +141,21 @@ TEST_F(PcdTest, HeaderThatLiesAboutItsSizeIsRejected) {
   expect_error("u.pcd", {"u.pcd: PCD header has no SIZE line"});
   write_text("c.pcd", header("x y z v", "4 4 4 4", "F F F F", 2, 2, 4, "binary_compressed"));
   expect_error("c.pcd", {"DATA 'binary_compressed' is not supported"});
+}
+
+// PCL's writer stretches binary files to a memory page past the data, with zeros.
+TEST_F(PcdTest, ZeroPaddingAfterBinaryDataAsPclWritesIsAccepted) {
+  std::string data;
+  for (const float f : {1.0f, 0.0f, 0.0f, 0.5f, 1.0f, 1.0f, 0.0f, 0.5f, 1.0f, 0.0f, 1.0f, 0.5f, 1.0f, 1.0f, 1.0f, 0.5f}) {
+    data.append(reinterpret_cast<const char*>(&f), 4);
+  }
+  const std::string h = header("x y z v", "4 4 4 4", "F F F F", 2, 2, 4);
+  write_text("pcl.pcd", h + data + std::string(4096 - h.size(), '\0'));
+  const core::Frame frame = read_frame(path("pcl.pcd"));
+  EXPECT_EQ(frame.scan.num_valid(), 4u);
+  EXPECT_EQ(frame.scan.radial_velocity_mps[3], 0.5f);
+  write_text("big.pcd", h + data + std::string(70000, '\0'));
+  expect_error("big.pcd", {"the header does not match the data"});
 }
 
 TEST_F(PcdTest, UnknownAndMissingFieldsAreNamed) {

@@ -6,7 +6,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace fmcw::test {
 
@@ -33,6 +35,20 @@ inline CliResult run_cli(const std::string& args) {
 inline std::string slurp(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// The comma-separated cells of data row k (0 = the first after the header) of a CSV file;
+/// empty when the file has no such row.
+inline std::vector<std::string> csv_row(const std::filesystem::path& p, std::size_t k = 0) {
+  std::istringstream in(slurp(p));
+  std::string row;
+  for (std::size_t i = 0; i <= k + 1; ++i) {
+    if (!std::getline(in, row)) return {};
+  }
+  std::vector<std::string> cells;
+  std::stringstream rs(row);
+  for (std::string c; std::getline(rs, c, ',');) cells.push_back(c);
+  return cells;
 }
 
 }  // namespace fmcw::test

@@ -34,15 +34,9 @@ TEST_F(Cli, SynthThenProcessRecoversEgoAndWritesTables) {
     for (const char* f : {"ego.csv", "objects.csv", "timing.csv", "results.json", "labels/f.pcd"}) {
       EXPECT_TRUE(fs::exists(dir_ / method / f)) << f;
     }
-    std::istringstream ego(slurp(dir_ / method / "ego.csv"));
-    std::string header, row;
-    std::getline(ego, header);
-    std::getline(ego, row);
     // frame,source,method,status,static_pixels,clusters,vx,vy,vz,...
-    std::vector<std::string> cells;
-    std::stringstream rs(row);
-    for (std::string c; std::getline(rs, c, ',');) cells.push_back(c);
-    ASSERT_GE(cells.size(), 9u) << row;
+    const std::vector<std::string> cells = fmcw::test::csv_row(dir_ / method / "ego.csv");
+    ASSERT_GE(cells.size(), 9u) << slurp(dir_ / method / "ego.csv");
     EXPECT_EQ(cells[2], method);
     EXPECT_EQ(cells[3], "ok");
     EXPECT_NEAR(std::stod(cells[6]), 10.0, 1e-5);

@@ -1,4 +1,5 @@
-// fmcw process INPUT -o DIR: run a motion method on one PCD or every frame of a dataset.
+// fmcw process INPUT -o DIR: run a motion method on one frame file or every frame of a folder
+// (a dataset, or a folder of Aeva scans).
 
 #include <filesystem>
 #include <iostream>
@@ -6,9 +7,8 @@
 #include "commands.hpp"
 #include "fmcw/core/motion_pipeline.hpp"
 #include "fmcw/io/atomic_file.hpp"
-#include "fmcw/io/dataset_files.hpp"
-#include "fmcw/io/pcd.hpp"
 #include "fmcw/io/results_writer.hpp"
+#include "input_flags.hpp"
 
 namespace fmcw::cli {
 
@@ -16,16 +16,17 @@ namespace fs = std::filesystem;
 
 namespace {
 struct ProcessOptions {
-  std::string input;
   std::string output;
   std::string method = core::MotionPipelineParams::default_method();
   std::uint64_t seed = 0;
   int threads = 0;
   bool no_clouds = false;
+  InputFlags input;
 };
 
 int run_process(const ProcessOptions& opt) {
-  const std::vector<std::string> files = io::list_frame_files(opt.input);
+  const io::InputOptions input = opt.input.resolve();
+  const std::vector<std::string> files = io::list_input_files(opt.input.path, input.format);
   io::ensure_writable_directory(opt.output);
   core::MotionPipelineParams params = core::MotionPipelineParams::preset(opt.method);
   params.seed = opt.seed;
@@ -35,12 +36,16 @@ int run_process(const ProcessOptions& opt) {
   if (!opt.no_clouds) io::ensure_writable_directory(label_dir.string());
   io::ResultsWriter writer(opt.output);
   for (std::size_t k = 0; k < files.size(); ++k) {
-    const core::Frame frame = io::read_frame(files[k]);
+    const io::InputFrame in = io::read_input_frame(files[k], input);
+    const core::Frame& frame = in.frame;
+    if (in.projected) std::cerr << files[k] << ": " << projection_summary(in) << "\n";
     const core::MotionEstimate est = pipeline.process(frame.scan, k);
     if (!est.ok()) throw std::runtime_error(files[k] + ": " + est.message);
     writer.add(k, files[k], est);
     if (!opt.no_clouds) {
-      io::write_labelled_pcd((label_dir / fs::path(files[k]).filename()).string(), frame.scan, est);
+      // Labelled clouds are PCD whatever the input: an Aeva scan's labels go to NAME.pcd.
+      const std::string name = fs::path(files[k]).stem().string() + ".pcd";
+      io::write_labelled_pcd((label_dir / name).string(), frame.scan, est);
     }
     const Eigen::Vector3d& v = est.ego.velocity_mps;
     std::cerr << "[" << k + 1 << "/" << files.size() << "] " << files[k] << ": " << est.clusters.size()
@@ -56,13 +61,13 @@ int run_process(const ProcessOptions& opt) {
 
 Action add_process_command(CLI::App& app) {
   auto opt = std::make_shared<ProcessOptions>();
-  CLI::App* cmd = app.add_subcommand("process", "Run a motion method on a PCD file or a dataset folder");
-  cmd->add_option("input", opt->input, "A .pcd file, or a dataset folder (frames/*.pcd)")->required();
+  CLI::App* cmd = app.add_subcommand("process", "Run a motion method on a PCD file, a dataset folder or Aeva scans");
   cmd->add_option("-o,--output", opt->output, "Output folder")->required();
   cmd->add_option("--method", opt->method, "Motion method")->check(CLI::IsMember(core::MotionPipelineParams::preset_names()));
   cmd->add_option("--seed", opt->seed, "Seed of the random subsampling");
   cmd->add_option("--threads", opt->threads, "Threads for per-object estimation (0 = all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_flag("--no-clouds", opt->no_clouds, "Do not write labelled clouds");
+  add_input_flags(cmd, opt->input);
   return [opt] { return run_process(*opt); };
 }
 

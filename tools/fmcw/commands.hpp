@@ -19,6 +19,7 @@ Action add_simulate_command(CLI::App& app);
 Action add_evaluate_command(CLI::App& app);
 Action add_run_command(CLI::App& app);
 Action add_study_command(CLI::App& app);
+Action add_export_command(CLI::App& app);
 
 /// Runs the evaluation of a dataset and writes its report (metrics.json, tables, and figures
 /// plus report.html unless no_figures), with progress on stderr. Shared by evaluate and run.

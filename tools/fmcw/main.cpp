@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   reg(fmcw::cli::add_evaluate_command);
   reg(fmcw::cli::add_run_command);
   reg(fmcw::cli::add_study_command);
+  reg(fmcw::cli::add_export_command);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

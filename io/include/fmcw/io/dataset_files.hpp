@@ -6,9 +6,9 @@
 
 namespace fmcw::io {
 
-/// A .pcd file gives itself; a folder gives its frames/*.pcd (a dataset written by
-/// `fmcw simulate`) or, without frames/, its own *.pcd, sorted by name. Throws
-/// std::invalid_argument naming the path when it does not exist or holds no PCD.
-std::vector<std::string> list_frame_files(const std::string& input);
+/// A file gives itself; a folder gives its frames/*<extension> (a dataset written by
+/// `fmcw simulate`) or, without frames/, its own *<extension>, sorted by name. Throws
+/// std::invalid_argument naming the path when it does not exist or holds no such file.
+std::vector<std::string> list_frame_files(const std::string& input, const std::string& extension = ".pcd");
 
 }  // namespace fmcw::io

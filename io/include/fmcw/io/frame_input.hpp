@@ -1,0 +1,48 @@
+#pragma once
+// Where frames come from on the command line: the project's organized PCD, any PCD taken as a
+// list of points and projected onto a grid, or Aeva Aeries II scans.
+
+#include <string>
+#include <vector>
+
+#include "fmcw/core/grid_projection.hpp"
+#include "fmcw/io/aeva.hpp"
+#include "fmcw/io/pcd.hpp"
+
+namespace fmcw::io {
+
+enum class InputFormat {
+  kPcd,     ///< organized PCD as `fmcw simulate` writes it (HEIGHT = rows)
+  kPoints,  ///< any PCD with x y z v (intensity and t optional), unorganized or not: projected
+  kAeva,    ///< Aeva Aeries II .bin scans: rows by line index, columns by azimuth
+};
+
+/// "pcd", "points" or "aeva"; std::invalid_argument otherwise.
+InputFormat parse_input_format(const std::string& text);
+const std::vector<std::string>& input_format_names();
+
+struct InputOptions {
+  InputFormat format = InputFormat::kPcd;
+  AevaLayout aeva_layout = AevaLayout::kAuto;
+  bool negate_velocity = false;  ///< points and aeva: flip the Doppler sign
+  /// points and aeva: the grid. Rows by elevation for points, by line index for aeva.
+  core::GridProjectionParams grid;
+};
+
+/// The files of an input: itself, or a folder's frames (*.pcd, or *.bin for aeva), sorted.
+std::vector<std::string> list_input_files(const std::string& input, InputFormat format);
+
+struct InputFrame {
+  core::Frame frame;
+  bool projected = false;          ///< the scan was made by project_to_grid
+  core::GridProjectionStats stats; ///< when projected
+};
+
+/// Reads one file in the given format. Errors name the file.
+InputFrame read_input_frame(const std::string& path, const InputOptions& options);
+
+/// A PCD's points with finite x, y, z as a point list: x y z v required, intensity and t taken
+/// when present, other fields ignored. Errors name the source.
+core::PointList points_from_pcd(const PcdCloud& cloud, const std::string& source);
+
+}  // namespace fmcw::io

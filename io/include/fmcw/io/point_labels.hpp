@@ -1,0 +1,51 @@
+#pragma once
+// Per-point semantic and instance labels in SemanticKITTI's class numbering, from either the
+// motion estimate of `fmcw process` (field `label`) or a dataset's ground truth (fields
+// `instance` and `moving`, classes from objects.csv). Used by the exports.
+//
+// Mapping (docs/FORMATS.md): static world 9 "static" and generic moving 251 "moving" as in
+// SemanticKITTI's moving-object benchmark; actors of a known class get that class's code,
+// its "moving-" code on pixels whose surface moves:
+//   car, van 10/252 · truck 18/258 · bus 13/257 · cyclist, bicyclist 31/253 ·
+//   motorcyclist 32/255 · pedestrian, person 30/254 · any other actor 99/251 ·
+//   estimated moving cluster 251 · estimated static 9 · unassigned (region too small) 0.
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "fmcw/io/pcd.hpp"
+
+namespace fmcw::io {
+
+enum class LabelSource {
+  kAuto,      ///< the estimate when the cloud has `label`, else the ground truth
+  kEstimate,  ///< field `label`: -1 no return, -2 unassigned, 0 static, k moving cluster k
+  kTruth,     ///< fields `instance` (actor id, 0 static world) and `moving`
+};
+
+/// "auto", "estimate" or "truth"; std::invalid_argument otherwise.
+LabelSource parse_label_source(const std::string& text);
+
+/// One entry per point of the cloud (points without a return included: their labels are 0).
+struct PointLabels {
+  std::vector<std::uint16_t> semantic;  ///< SemanticKITTI class code
+  std::vector<std::uint16_t> instance;  ///< cluster or actor id, 0 for the static world
+  LabelSource source = LabelSource::kAuto;  ///< the source used (never kAuto)
+};
+
+constexpr std::uint16_t kSemanticUnlabeled = 0;
+constexpr std::uint16_t kSemanticStatic = 9;
+constexpr std::uint16_t kSemanticMoving = 251;
+
+/// Class code of an actor class name (as in a scenario's `class:`), static or moving.
+std::uint16_t semantic_class(const std::string& actor_class, bool moving);
+
+/// Labels of every point. actor_classes maps actor ids to class names (from objects.csv); ids
+/// it lacks are "any other actor". std::invalid_argument naming source for a missing field, a
+/// label below -2, or an id above 65535 (SemanticKITTI keeps instances in 16 bits).
+PointLabels point_labels(const PcdCloud& cloud, LabelSource source, const std::map<std::uint32_t, std::string>& actor_classes,
+                         const std::string& where);
+
+}  // namespace fmcw::io

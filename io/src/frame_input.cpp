@@ -1,0 +1,92 @@
+#include "fmcw/io/frame_input.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "fmcw/core/check.hpp"
+#include "fmcw/io/dataset_files.hpp"
+
+namespace fmcw::io {
+
+using core::concat;
+
+InputFormat parse_input_format(const std::string& text) {
+  if (text == "pcd") return InputFormat::kPcd;
+  if (text == "points") return InputFormat::kPoints;
+  if (text == "aeva") return InputFormat::kAeva;
+  throw std::invalid_argument("input format must be pcd, points or aeva, got '" + text + "'");
+}
+
+const std::vector<std::string>& input_format_names() {
+  static const std::vector<std::string> names = {"pcd", "points", "aeva"};
+  return names;
+}
+
+std::vector<std::string> list_input_files(const std::string& input, InputFormat format) {
+  return list_frame_files(input, format == InputFormat::kAeva ? ".bin" : ".pcd");
+}
+
+core::PointList points_from_pcd(const PcdCloud& cloud, const std::string& source) {
+  for (const char* required : {"x", "y", "z", "v"}) {
+    if (cloud.find(required) == nullptr) {
+      throw std::invalid_argument(concat(source, ": missing field '", required, "' (points need x y z v)"));
+    }
+  }
+  const auto& x = cloud.find("x")->values;
+  const auto& y = cloud.find("y")->values;
+  const auto& z = cloud.find("z")->values;
+  const auto& v = cloud.find("v")->values;
+  const PcdField* intensity = cloud.find("intensity");
+  const PcdField* t = cloud.find("t");
+  core::PointList points;
+  for (std::size_t i = 0; i < cloud.points(); ++i) {
+    // NaN coordinates mark a beam without a return, as in the organized frames.
+    if (!(std::isfinite(x[i]) && std::isfinite(y[i]) && std::isfinite(z[i]))) continue;
+    for (const PcdField* f : {cloud.find("v"), intensity, t}) {
+      if (f && !std::isfinite(f->values[i])) {
+        throw std::invalid_argument(concat(source, ": point ", i, " has finite x y z but field '", f->name, "' is ",
+                                           f->values[i]));
+      }
+    }
+    points.x_m.push_back(static_cast<float>(x[i]));
+    points.y_m.push_back(static_cast<float>(y[i]));
+    points.z_m.push_back(static_cast<float>(z[i]));
+    points.radial_velocity_mps.push_back(static_cast<float>(v[i]));
+    if (intensity) points.intensity.push_back(static_cast<float>(intensity->values[i]));
+    if (t) points.time_offset_s.push_back(static_cast<float>(t->values[i]));
+  }
+  if (points.size() == 0) throw std::invalid_argument(concat(source, ": no point with finite x y z"));
+  return points;
+}
+
+InputFrame read_input_frame(const std::string& path, const InputOptions& options) {
+  InputFrame out;
+  if (options.format == InputFormat::kPcd) {
+    out.frame = read_frame(path);
+    return out;
+  }
+  core::GridProjection projection;
+  if (options.format == InputFormat::kAeva) {
+    AevaScanParams params;
+    params.layout = options.aeva_layout;
+    params.grid = options.grid;
+    params.negate_velocity = options.negate_velocity;
+    projection = read_aeva_scan(path, params);
+  } else {
+    core::PointList points = points_from_pcd(read_pcd(path), path);
+    if (options.negate_velocity) {
+      for (float& v : points.radial_velocity_mps) v = -v;
+    }
+    try {
+      projection = core::project_to_grid(points, options.grid);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(concat(path, ": ", e.what()));
+    }
+  }
+  out.frame.scan = std::move(projection.scan);
+  out.projected = true;
+  out.stats = projection.stats;
+  return out;
+}
+
+}  // namespace fmcw::io

@@ -1,0 +1,105 @@
+#include "fmcw/io/point_labels.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "fmcw/core/check.hpp"
+
+namespace fmcw::io {
+
+using core::concat;
+
+namespace {
+struct ClassCodes {
+  const char* name;
+  std::uint16_t still;
+  std::uint16_t moving;
+};
+// SemanticKITTI codes of the classes our scenarios use, and their usual synonyms.
+constexpr ClassCodes kClasses[] = {
+    {"car", 10, 252},         {"van", 10, 252},        {"truck", 18, 258},         {"bus", 13, 257},
+    {"cyclist", 31, 253},     {"bicyclist", 31, 253},  {"motorcyclist", 32, 255},  {"pedestrian", 30, 254},
+    {"person", 30, 254},
+};
+constexpr std::uint16_t kOtherObject = 99;
+constexpr double kMaxInstance = 65535.0;
+
+const PcdField& require(const PcdCloud& cloud, const char* name, const std::string& where, const char* why) {
+  const PcdField* f = cloud.find(name);
+  if (!f) throw std::invalid_argument(concat(where, ": no field '", name, "' for ", why));
+  return *f;
+}
+
+std::uint16_t instance_id(double value, std::size_t point, const std::string& where) {
+  if (!(value >= 0.0 && value <= kMaxInstance)) {
+    throw std::invalid_argument(concat(where, ": point ", point, ": id ", value,
+                                       " does not fit SemanticKITTI's 16-bit instance field (0..65535)"));
+  }
+  return static_cast<std::uint16_t>(value);
+}
+}  // namespace
+
+LabelSource parse_label_source(const std::string& text) {
+  if (text == "auto") return LabelSource::kAuto;
+  if (text == "estimate") return LabelSource::kEstimate;
+  if (text == "truth") return LabelSource::kTruth;
+  throw std::invalid_argument("label source must be auto, estimate or truth, got '" + text + "'");
+}
+
+std::uint16_t semantic_class(const std::string& actor_class, bool moving) {
+  for (const ClassCodes& c : kClasses) {
+    if (actor_class == c.name) return moving ? c.moving : c.still;
+  }
+  return moving ? kSemanticMoving : kOtherObject;
+}
+
+PointLabels point_labels(const PcdCloud& cloud, LabelSource source, const std::map<std::uint32_t, std::string>& actor_classes,
+                         const std::string& where) {
+  if (source == LabelSource::kAuto) {
+    if (cloud.find("label")) {
+      source = LabelSource::kEstimate;
+    } else if (cloud.find("instance")) {
+      source = LabelSource::kTruth;
+    } else {
+      throw std::invalid_argument(concat(where, ": no labels: the cloud has neither 'label' (fmcw process output) "
+                                                "nor 'instance' and 'moving' (ground truth)"));
+    }
+  }
+  const std::size_t n = cloud.points();
+  PointLabels out;
+  out.source = source;
+  out.semantic.assign(n, kSemanticUnlabeled);
+  out.instance.assign(n, 0);
+  const PcdField& x = require(cloud, "x", where, "positions");
+  if (source == LabelSource::kEstimate) {
+    const PcdField& label = require(cloud, "label", where, "estimated labels");
+    for (std::size_t i = 0; i < n; ++i) {
+      const double l = label.values[i];
+      if (!(l >= -2.0)) throw std::invalid_argument(concat(where, ": point ", i, ": label ", l, " is below -2"));
+      if (l == 0.0) {
+        out.semantic[i] = kSemanticStatic;
+      } else if (l > 0.0) {
+        out.semantic[i] = kSemanticMoving;
+        out.instance[i] = instance_id(l, i, where);
+      }
+    }
+    return out;
+  }
+  const PcdField& instance = require(cloud, "instance", where, "ground-truth labels");
+  const PcdField& moving = require(cloud, "moving", where, "ground-truth labels");
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(x.values[i])) continue;  // no return
+    const bool is_moving = moving.values[i] != 0.0;
+    const std::uint16_t id = instance_id(instance.values[i], i, where);
+    out.instance[i] = id;
+    if (id == 0) {
+      out.semantic[i] = is_moving ? kSemanticMoving : kSemanticStatic;
+    } else {
+      const auto it = actor_classes.find(id);
+      out.semantic[i] = semantic_class(it == actor_classes.end() ? std::string() : it->second, is_moving);
+    }
+  }
+  return out;
+}
+
+}  // namespace fmcw::io

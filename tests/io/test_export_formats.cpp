@@ -1,0 +1,145 @@
+// PLY and SemanticKITTI writers, labels and colours on clouds whose every byte is known.
+// (tests/python/test_export_tools.py loads the same files with Open3D, numpy and PCL.)
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+#include "fmcw/io/ply.hpp"
+#include "fmcw/io/point_colors.hpp"
+#include "fmcw/io/point_labels.hpp"
+#include "fmcw/io/semantic_kitti.hpp"
+#include "support/temp_dir.hpp"
+
+namespace fmcw::io {
+namespace {
+
+class ExportTest : public fmcw::test::TempDirTest {
+ protected:
+  std::string bytes(const std::string& name) const {
+    std::ifstream in(path(name), std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }
+};
+
+// 2 x 2 cloud: point 1 has no return. Truth fields, and the estimate's label.
+PcdCloud cloud() {
+  const double nan = std::nan("");
+  PcdCloud c;
+  c.width = 2;
+  c.height = 2;
+  c.fields = {{"x", 'F', 4, {1, nan, 3, 4}},       {"y", 'F', 4, {0.5, nan, -0.5, 0}},
+              {"z", 'F', 4, {0, nan, 1, 2}},        {"v", 'F', 4, {-20, nan, 0, 2.5}},
+              {"intensity", 'F', 4, {0.1, 0, 0.2, 0.3}}, {"instance", 'U', 4, {0, 0, 7, 70000}},
+              {"moving", 'U', 1, {0, 0, 1, 0}},     {"label", 'I', 4, {0, -1, 2, -2}}};
+  c.comments = {"fmcw_stamp 0"};
+  return c;
+}
+
+std::uint32_t u32_at(const std::string& s, std::size_t offset) {
+  std::uint32_t v = 0;
+  for (int b = 3; b >= 0; --b) v = (v << 8) | static_cast<unsigned char>(s[offset + static_cast<std::size_t>(b)]);
+  return v;
+}
+float f32_at(const std::string& s, std::size_t offset) {
+  const std::uint32_t bits = u32_at(s, offset);
+  float f = 0;
+  std::memcpy(&f, &bits, 4);
+  return f;
+}
+
+TEST_F(ExportTest, PlyHasEveryFieldOfTheCloudAndOnlyPointsWithAReturn) {
+  const PcdCloud c = cloud();
+  const std::vector<Rgb> colors = doppler_colors(c, 10.0, "test");
+  EXPECT_EQ(write_ply(path("c.ply"), c, colors), 3u);
+  const std::string s = bytes("c.ply");
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\ncomment written by fmcw export\ncomment fmcw_stamp 0\n"
+      "element vertex 3\nproperty float x\nproperty float y\nproperty float z\nproperty float v\n"
+      "property float intensity\nproperty uint instance\nproperty uchar moving\nproperty int label\n"
+      "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
+  ASSERT_EQ(s.substr(0, header.size()), header);
+  const std::size_t stride = 4 * 5 + 4 + 1 + 4 + 3;
+  ASSERT_EQ(s.size(), header.size() + 3 * stride);
+  const std::size_t second = header.size() + stride;  // cloud point 2: point 1 had no return
+  EXPECT_EQ(f32_at(s, second), 3.0f);
+  EXPECT_EQ(u32_at(s, second + 20), 7u);  // uint instance
+  EXPECT_EQ(s[second + 24], 1);
+  EXPECT_EQ(u32_at(s, second + 25), 2u);
+  // v = -20 m/s: full blue; v = 0: white.
+  EXPECT_EQ(s.substr(header.size() + 29, 3), std::string("\x00\x00\xff", 3));
+  EXPECT_EQ(s.substr(second + 29, 3), std::string("\xff\xff\xff", 3));
+}
+
+TEST_F(ExportTest, PlyRefusesWhatItCannotWrite) {
+  PcdCloud c = cloud();
+  c.fields.push_back({"big", 'U', 8, {0, 0, 0, 0}});
+  EXPECT_THROW(write_ply(path("a.ply"), c), std::invalid_argument);
+  c = cloud();
+  c.fields.push_back({"red", 'U', 1, {0, 0, 0, 0}});
+  EXPECT_NO_THROW(write_ply(path("b.ply"), c));
+  EXPECT_THROW(write_ply(path("b.ply"), c, doppler_colors(c, 1.0, "t")), std::invalid_argument);
+}
+
+TEST_F(ExportTest, SemanticKittiPacksClassLowAndInstanceHigh) {
+  PcdCloud c = cloud();
+  c.fields[5].values[3] = 9;
+  const std::map<std::uint32_t, std::string> classes = {{7, "car"}, {9, "pedestrian"}};
+  const PointLabels truth = point_labels(c, LabelSource::kTruth, classes, "test");
+  EXPECT_EQ(write_semantic_kitti(path("s.bin"), path("s.label"), c, truth, "test"), 3u);
+  const std::string bin = bytes("s.bin");
+  const std::string label = bytes("s.label");
+  ASSERT_EQ(bin.size(), 3u * 16u);
+  ASSERT_EQ(label.size(), 3u * 4u);
+  EXPECT_EQ(f32_at(bin, 16), 3.0f);       // x of cloud point 2
+  EXPECT_EQ(f32_at(bin, 16 + 12), 0.2f);  // its remission = intensity
+  EXPECT_EQ(u32_at(label, 0), 9u);                 // static world: class 9, instance 0
+  EXPECT_EQ(u32_at(label, 4), 252u | (7u << 16));  // moving car 7
+  EXPECT_EQ(u32_at(label, 8), 30u | (9u << 16));   // pedestrian 9, standing still
+}
+
+TEST_F(ExportTest, LabelsFromTheEstimateAndTheirLimits) {
+  const PcdCloud c = cloud();
+  const PointLabels est = point_labels(c, LabelSource::kAuto, {}, "test");  // has 'label': the estimate
+  EXPECT_EQ(est.source, LabelSource::kEstimate);
+  EXPECT_EQ(est.semantic, (std::vector<std::uint16_t>{9, 0, 251, 0}));
+  EXPECT_EQ(est.instance, (std::vector<std::uint16_t>{0, 0, 2, 0}));
+  try {
+    point_labels(c, LabelSource::kTruth, {}, "f.pcd");  // instance 70000 does not fit 16 bits
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("f.pcd: point 3: id 70000 does not fit"), std::string::npos) << e.what();
+  }
+  PcdCloud bare = c;
+  bare.fields.resize(5);
+  try {
+    point_labels(bare, LabelSource::kAuto, {}, "bare.pcd");
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("bare.pcd: no labels"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(semantic_class("bus", true), 257);
+  EXPECT_EQ(semantic_class("van", false), 10);
+  EXPECT_EQ(semantic_class("tram", true), 251);
+  EXPECT_EQ(semantic_class("tram", false), 99);
+}
+
+TEST(PointColors, DopplerScaleAndLabelHues) {
+  EXPECT_EQ(doppler_color(5.0, 10.0).r, 255);
+  EXPECT_EQ(doppler_color(5.0, 10.0).g, 128);
+  EXPECT_EQ(doppler_color(-50.0, 10.0).b, 255);
+  EXPECT_EQ(doppler_color(-50.0, 10.0).r, 0);
+  const Rgb grey = label_color(kSemanticStatic, 0);
+  EXPECT_EQ(grey.r, 150);
+  const Rgb moving = label_color(252, 3);
+  const Rgb parked = label_color(10, 3);
+  EXPECT_EQ(std::max({moving.r, moving.g, moving.b}), 255);
+  EXPECT_EQ(std::max({parked.r, parked.g, parked.b}), 128);
+  EXPECT_NE(label_color(252, 3).g, label_color(252, 4).g);
+  EXPECT_THROW(doppler_color(1.0, 0.0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace fmcw::io

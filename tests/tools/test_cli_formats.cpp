@@ -1,0 +1,183 @@
+// The CLI on other people's formats: Aeva Aeries II scans and unorganized point clouds in,
+// PLY / SemanticKITTI / PCD out, with one clear error for bad input.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numeric>
+#include <random>
+
+#include "fmcw/core/synthetic_scan.hpp"
+#include "fmcw/io/aeva.hpp"
+#include "fmcw/io/pcd.hpp"
+#include "support/cli.hpp"
+#include "support/temp_dir.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using fmcw::test::CliResult;
+using fmcw::test::run_cli;
+
+class CliFormats : public fmcw::test::TempDirTest {};
+
+constexpr double kDeg = M_PI / 180.0;
+const Eigen::Vector3d kEgo(7.0, -0.6, 0.0);
+
+// One 120 x 30 deg head at 0.2 deg, 1.8 m above the ground, driving through a walled street
+// with one car crossing: what an Aeva sensor would see, with the scan lines as rows.
+fmcw::core::Frame street() {
+  fmcw::core::SyntheticSceneParams p;
+  fmcw::core::HeadModel head;
+  head.fov_horizontal_rad = 120.0 * kDeg;
+  head.fov_vertical_rad = 30.0 * kDeg;
+  p.rig.heads = {head};
+  p.ground_z_m = -1.8;
+  fmcw::core::SyntheticBox wall;
+  wall.center_m = {0.0, 14.0, 5.0};
+  wall.half_extent_m = {200.0, 1.0, 10.0};
+  fmcw::core::SyntheticBox other = wall;
+  other.center_m.y() = -14.0;
+  fmcw::core::SyntheticBox car;
+  car.center_m = {18.0, 2.0, -1.0};
+  car.half_extent_m = {2.2, 0.9, 0.8};
+  car.velocity_mps = {-6.0, 0.0, 0.0};
+  p.static_boxes = {wall, other};
+  p.actors = {car};
+  p.ego_velocity_mps = kEgo;
+  p.velocity_noise_mps = 0.031;
+  p.range_noise_m = 0.025;
+  p.seed = 5;
+  return fmcw::core::render_synthetic_scan(p);
+}
+
+// The scan's returns as Aeva records in a shuffled order (a sensor's order is not the image's).
+fmcw::io::AevaRecords to_aeva(const fmcw::core::Scan& scan) {
+  std::vector<std::size_t> order(scan.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::shuffle(order.begin(), order.end(), std::mt19937(11));
+  fmcw::io::AevaRecords r;
+  for (const std::size_t i : order) {
+    if (!scan.valid[i]) continue;
+    r.x_m.push_back(scan.x_m[i]);
+    r.y_m.push_back(scan.y_m[i]);
+    r.z_m.push_back(scan.z_m[i]);
+    r.reflectivity.push_back(scan.intensity[i]);
+    r.velocity_mps.push_back(scan.radial_velocity_mps[i]);
+    r.time_offset_ns.push_back(static_cast<std::int32_t>(i % 100000));
+    r.line_index.push_back(static_cast<std::uint8_t>(i / static_cast<std::size_t>(scan.cols)));
+  }
+  return r;
+}
+
+// vx, vy of frame 0 in ego.csv (frame,source,method,status,static_pixels,clusters,vx,vy,...).
+std::pair<double, double> ego_velocity(const fs::path& ego_csv) {
+  const std::vector<std::string> cells = fmcw::test::csv_row(ego_csv);
+  EXPECT_GE(cells.size(), 9u) << fmcw::test::slurp(ego_csv);
+  if (cells.size() < 9) return {NAN, NAN};
+  EXPECT_EQ(cells[3], "ok");
+  return {std::stod(cells[6]), std::stod(cells[7])};
+}
+
+TEST_F(CliFormats, ProcessRunsTheCoreOnAnAevaScan) {
+  const fmcw::core::Frame frame = street();
+  const fmcw::io::AevaRecords records = to_aeva(frame.scan);
+  fmcw::io::write_aeva(path("1690000000000000000.bin"), records);
+  const CliResult r = run_cli("process --format aeva --aeva-lines 150 " + path("1690000000000000000.bin") + " -o " +
+                              path("out") + " --method robust");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("placed " + std::to_string(records.size()) + " of " + std::to_string(records.size()) +
+                          " points (0 collisions, 0 outside the field of view) on 150 x 600 by line and azimuth"),
+            std::string::npos)
+      << r.output;
+  const auto [vx, vy] = ego_velocity(dir_ / "out" / "ego.csv");
+  EXPECT_NEAR(vx, kEgo.x(), 0.03);
+  EXPECT_NEAR(vy, kEgo.y(), 0.03);
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "labels" / "1690000000000000000.pcd"));
+  // The labelled cloud is the organized image: 600 x 150.
+  const fmcw::io::PcdCloud labelled = fmcw::io::read_pcd((dir_ / "out" / "labels" / "1690000000000000000.pcd").string());
+  EXPECT_EQ(labelled.width, 600);
+  EXPECT_EQ(labelled.height, 150);
+}
+
+TEST_F(CliFormats, ProcessProjectsAnUnorganizedCloud) {
+  const fmcw::core::Frame frame = street();
+  // x y z v as one row of points, no return dropped: HEIGHT 1, the layout most tools write.
+  fmcw::io::PcdCloud cloud;
+  cloud.height = 1;
+  for (const char* name : {"x", "y", "z", "v"}) cloud.fields.push_back({name, 'F', 4, {}});
+  for (std::size_t i = 0; i < frame.scan.size(); ++i) {
+    if (!frame.scan.valid[i]) continue;
+    cloud.fields[0].values.push_back(frame.scan.x_m[i]);
+    cloud.fields[1].values.push_back(frame.scan.y_m[i]);
+    cloud.fields[2].values.push_back(frame.scan.z_m[i]);
+    cloud.fields[3].values.push_back(frame.scan.radial_velocity_mps[i]);
+  }
+  cloud.width = static_cast<int>(cloud.fields[0].values.size());
+  fmcw::io::write_pcd(path("points.pcd"), cloud);
+  // As an organized frame it is refused, with the reason.
+  const CliResult organized = run_cli("process " + path("points.pcd") + " -o " + path("no"));
+  EXPECT_EQ(organized.code, 1);
+  EXPECT_NE(organized.output.find("HEIGHT 1"), std::string::npos) << organized.output;
+  const CliResult r = run_cli("process --format points " + path("points.pcd") + " -o " + path("out") + " --method fast");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("on 150 x 600 by elevation and azimuth"), std::string::npos) << r.output;
+  const auto [vx, vy] = ego_velocity(dir_ / "out" / "ego.csv");
+  EXPECT_NEAR(vx, kEgo.x(), 0.03);
+  EXPECT_NEAR(vy, kEgo.y(), 0.03);
+}
+
+TEST_F(CliFormats, ExportWritesEachFormatForEveryFrame) {
+  fs::create_directories(dir_ / "in");
+  ASSERT_EQ(run_cli("synth -o " + path("in/a.pcd") + " --objects 3").code, 0);
+  ASSERT_EQ(run_cli("synth -o " + path("in/b.pcd") + " --objects 3 --seed 2").code, 0);
+  for (const std::string to : {"ply", "kitti", "pcd"}) {
+    const CliResult r = run_cli("export " + path("in") + " -o " + path(to) + " --to " + to);
+    ASSERT_EQ(r.code, 0) << r.output;
+  }
+  for (const char* f : {"ply/a.ply", "ply/b.ply", "kitti/velodyne/a.bin", "kitti/labels/b.label", "pcd/a.pcd"}) {
+    EXPECT_TRUE(fs::exists(dir_ / f)) << f;
+  }
+  // The PCD export reads back as the same frame.
+  const fmcw::core::Frame a = fmcw::io::read_frame(path("in/a.pcd"));
+  const fmcw::core::Frame back = fmcw::io::read_frame(path("pcd/a.pcd"));
+  EXPECT_EQ(fs::file_size(dir_ / "kitti/velodyne/a.bin"), a.scan.num_valid() * 16);
+  EXPECT_EQ(back.scan.radial_velocity_mps.size(), a.scan.radial_velocity_mps.size());
+  EXPECT_TRUE(std::equal(a.scan.x_m.begin(), a.scan.x_m.end(), back.scan.x_m.begin(),
+                         [](float p, float q) { return (std::isnan(p) && std::isnan(q)) || p == q; }));
+}
+
+TEST_F(CliFormats, BadInputGetsOneErrorLine) {
+  fmcw::io::write_aeva(path("scan.bin"), to_aeva(street().scan));
+  {
+    std::ofstream bad(path("bad.bin"), std::ios::binary);
+    bad << std::string(26, '\0');
+  }
+  struct Case {
+    std::string args;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {"process --format aeva " + path("bad.bin") + " -o " + path("o1"),
+       "bad.bin: size 26 bytes is not a whole number of Aeva records"},
+      {"process --format aeva --aeva-lines 100 " + path("scan.bin") + " -o " + path("o2"),
+       "is out of range [0, 100) (the sensor has 100 lines)"},
+      {"process --format aeva --res-h 0.7 " + path("scan.bin") + " -o " + path("o3"),
+       "fov_horizontal_deg (120) must be a whole multiple of resolution_horizontal_deg (0.7)"},
+      {"export --format aeva " + path("scan.bin") + " -o " + path("o4") + " --to kitti",
+       "no labels: the cloud has neither 'label'"},
+      {"export " + path("nothing") + " -o " + path("o5") + " --to ply", "does not exist"},
+      {"process --format aeva " + dir_.string() + " -o " + path("o6"), "bad.bin"},
+  };
+  for (const Case& c : cases) {
+    const CliResult r = run_cli(c.args);
+    EXPECT_EQ(r.code, 1) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find("fmcw: error: "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "o4" / "velodyne" / "scan.bin"));
+}
+
+}  // namespace

@@ -1,0 +1,49 @@
+#include "input_flags.hpp"
+
+#include <sstream>
+
+namespace fmcw::cli {
+
+io::InputOptions InputFlags::resolve() const {
+  io::InputOptions o;
+  o.format = io::parse_input_format(format);
+  o.aeva_layout = io::parse_aeva_layout(aeva_record);
+  o.negate_velocity = negate_velocity;
+  o.grid.fov_horizontal_deg = fov_horizontal_deg;
+  o.grid.resolution_horizontal_deg = resolution_horizontal_deg;
+  o.grid.fov_vertical_deg = fov_vertical_deg;
+  o.grid.resolution_vertical_deg = resolution_vertical_deg;
+  o.grid.lines = lines;
+  o.grid.validate();
+  return o;
+}
+
+void add_input_flags(CLI::App* cmd, InputFlags& f) {
+  cmd->add_option("input", f.path, "A frame file, or a folder: a dataset (frames/*.pcd) or *.pcd / *.bin files")
+      ->required();
+  cmd->add_option("--format", f.format,
+                  "Input: pcd (organized frames), points (any PCD with x y z v, projected onto a grid), "
+                  "aeva (Aeva Aeries II .bin scans)")
+      ->check(CLI::IsMember(io::input_format_names()));
+  cmd->add_option("--aeva-record", f.aeva_record, "Aeva record size: auto, 25 or 29 bytes")
+      ->check(CLI::IsMember({"auto", "25", "29"}));
+  cmd->add_option("--aeva-lines", f.lines, "Aeva scan lines (rows); a larger line index is an error; 0 = from the file")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--fov-h", f.fov_horizontal_deg, "points, aeva: azimuth span of the grid [deg]");
+  cmd->add_option("--res-h", f.resolution_horizontal_deg, "points, aeva: azimuth bin [deg]");
+  cmd->add_option("--fov-v", f.fov_vertical_deg, "points: elevation span of the grid [deg]");
+  cmd->add_option("--res-v", f.resolution_vertical_deg, "points: elevation bin [deg]");
+  cmd->add_flag("--negate-velocity", f.negate_velocity, "points, aeva: flip the Doppler sign to the project's (+ away)");
+}
+
+std::string projection_summary(const io::InputFrame& frame) {
+  if (!frame.projected) return "";
+  const core::GridProjectionStats& s = frame.stats;
+  std::ostringstream out;
+  out << "placed " << s.placed << " of " << s.points << " points (" << s.collisions << " collisions, " << s.outside_fov
+      << " outside the field of view) on " << frame.frame.scan.rows << " x " << frame.frame.scan.cols
+      << (s.rows_by_line ? " by line and azimuth" : " by elevation and azimuth");
+  return out.str();
+}
+
+}  // namespace fmcw::cli

@@ -1,0 +1,34 @@
+#pragma once
+// Input options shared by the commands that read frames (process, export): the format and, for
+// point lists and Aeva scans, the grid they are projected onto.
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "fmcw/io/frame_input.hpp"
+
+namespace fmcw::cli {
+
+struct InputFlags {
+  std::string path;  ///< the positional input: a frame file or a folder of frames
+  std::string format = "pcd";
+  std::string aeva_record = "auto";
+  int lines = 0;
+  double fov_horizontal_deg = 120.0;
+  double resolution_horizontal_deg = 0.2;
+  double fov_vertical_deg = 30.0;
+  double resolution_vertical_deg = 0.2;
+  bool negate_velocity = false;
+
+  /// Checks the values (std::invalid_argument naming the option) and returns them as options.
+  io::InputOptions resolve() const;
+};
+
+/// Registers the positional input and the format and grid options.
+void add_input_flags(CLI::App* cmd, InputFlags& flags);
+
+/// "placed P of N points (C collisions, O outside the field of view) on R x C" for a projected
+/// frame, "" otherwise.
+std::string projection_summary(const io::InputFrame& frame);
+
+}  // namespace fmcw::cli
