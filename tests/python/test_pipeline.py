@@ -13,12 +13,12 @@ def make_scan(**kwargs):
 
 
 def test_methods_are_the_cores():
-    assert set(fmcw.MotionPipelineParams.methods()) == {"paper", "fast", "robust"}
-    assert fmcw.MotionPipelineParams.default_method() == "robust"
-    assert fmcw.MotionPipeline().params.method == "robust"
+    assert set(fmcw.MotionPipelineParams.methods()) == {"paper", "fast", "robust", "tracked"}
+    assert fmcw.MotionPipelineParams.default_method() == "tracked"
+    assert fmcw.MotionPipeline().params.method == "tracked"
 
 
-@pytest.mark.parametrize("method", ["fast", "paper", "robust"])
+@pytest.mark.parametrize("method", ["fast", "paper", "robust", "tracked"])
 def test_ego_velocity_and_moving_object(method):
     scan, truth = make_scan()
     result = fmcw.MotionPipeline(method, seed=1).process(scan)
