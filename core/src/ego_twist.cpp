@@ -99,7 +99,8 @@ void EgoTwistParams::validate() const {
                  "ego twist: standing_coverage_fraction must be in (0, 1]");
 }
 
-EgoTwistEstimate estimate_ego_twist(const Scan& scan, const EgoTwistParams& params, std::uint64_t seed) {
+EgoTwistEstimate estimate_ego_twist(const Scan& scan, const EgoTwistParams& params, std::uint64_t seed,
+                                    const TwistPrior* prior) {
   EgoTwistEstimate out;
   const TwistRows rows = gather_rows(scan);
   const auto n = static_cast<std::uint32_t>(rows.v.size());
@@ -116,8 +117,17 @@ EgoTwistEstimate estimate_ego_twist(const Scan& scan, const EgoTwistParams& para
   std::vector<int> column_points(kCellCols, 0);
   for (const std::uint32_t k : subset) ++column_points[rows.cell[k] % kCellCols];
   Rng rng(mix_seed(seed, 1));
+  const auto admissible = [&](const Eigen::Vector4d& q) {
+    if (prior == nullptr) return true;
+    return (q.head<3>() - prior->velocity_mps).norm() <= prior->max_velocity_change_mps &&
+           std::abs(q(3) - prior->yaw_rate_rps) <= prior->max_yaw_rate_change_rps;
+  };
   Eigen::Vector4d best_p = Eigen::Vector4d::Zero();
   Score best;
+  if (prior != nullptr) {  // the previous twist is the first hypothesis
+    best_p << prior->velocity_mps, with_yaw ? prior->yaw_rate_rps : 0.0;
+    best = score(rows, subset, column_points, best_p, params.inlier_threshold_mps);
+  }
   for (int it = 0; it < params.ransac_iterations; ++it) {
     Eigen::Matrix4d A = Eigen::Matrix4d::Identity();
     Eigen::Vector4d b = Eigen::Vector4d::Zero();
@@ -139,7 +149,7 @@ EgoTwistEstimate estimate_ego_twist(const Scan& scan, const EgoTwistParams& para
     const Eigen::FullPivLU<Eigen::Matrix4d> lu(A);
     if (lu.rank() < 4) continue;
     const Eigen::Vector4d p = lu.solve(b);
-    if (!p.allFinite() || p.head<3>().norm() > 100.0 || std::abs(p(3)) > params.max_yaw_rate_rps) continue;
+    if (!p.allFinite() || p.head<3>().norm() > 100.0 || std::abs(p(3)) > params.max_yaw_rate_rps || !admissible(p)) continue;
     Score s = score(rows, subset, column_points, p, params.inlier_threshold_mps);
     if (!s.better_than(best)) continue;
     best = s;
@@ -161,16 +171,17 @@ EgoTwistEstimate estimate_ego_twist(const Scan& scan, const EgoTwistParams& para
         g(3) = 0.0;
       }
       const Eigen::Vector4d refit = N.ldlt().solve(g);
-      if (!refit.allFinite() || std::abs(refit(3)) > params.max_yaw_rate_rps) break;
+      if (!refit.allFinite() || std::abs(refit(3)) > params.max_yaw_rate_rps || !admissible(refit)) break;
       s = score(rows, subset, column_points, refit, params.inlier_threshold_mps);
       if (!s.better_than(best)) break;
       best = s;
       best_p = refit;
     }
   }
+  if (prior != nullptr && best.inliers < params.min_inliers) return estimate_ego_twist(scan, params, seed, nullptr);
   // Zero-velocity test: a standing rig sees the static world at zero Doppler.
   const Score zero = score(rows, subset, column_points, Eigen::Vector4d::Zero(), params.inlier_threshold_mps);
-  out.standing = zero.columns >= best.columns && zero.coverage >= params.standing_coverage_fraction * best.coverage &&
+  out.standing = admissible(Eigen::Vector4d::Zero()) && zero.columns >= best.columns && zero.coverage >= params.standing_coverage_fraction * best.coverage &&
                  zero.inliers >= params.standing_coverage_fraction * best.inliers;
   Eigen::Vector4d p = out.standing ? Eigen::Vector4d::Zero() : best_p;
 
@@ -181,6 +192,17 @@ EgoTwistEstimate estimate_ego_twist(const Scan& scan, const EgoTwistParams& para
   double rss = 0.0, weight_sum = 0.0;
   int inliers = 0;
   Coverage covered;
+  // With a prior, a weak pull towards the previous twist in the rows' units (noise^2 /
+  // window^2): it decides only what the points leave open, such as the yaw rate when one head
+  // alone sees the static world, and it counts in the conditioning below.
+  Eigen::Vector4d prior_info = Eigen::Vector4d::Zero();
+  Eigen::Vector4d prior_twist = Eigen::Vector4d::Zero();
+  if (prior != nullptr) {
+    const double s2 = params.noise_sigma_mps * params.noise_sigma_mps;
+    prior_info << Eigen::Vector3d::Constant(s2 / (prior->max_velocity_change_mps * prior->max_velocity_change_mps)),
+        with_yaw ? s2 / (prior->max_yaw_rate_change_rps * prior->max_yaw_rate_change_rps) : 0.0;
+    prior_twist << prior->velocity_mps, with_yaw ? prior->yaw_rate_rps : 0.0;
+  }
   for (int iter = 0; iter < params.refine_iterations; ++iter) {
     N.setZero();
     g.setZero();
@@ -199,6 +221,8 @@ EgoTwistEstimate estimate_ego_twist(const Scan& scan, const EgoTwistParams& para
       ++inliers;
       covered.set(rows.cell[i]);
     }
+    N.diagonal() += prior_info;
+    g += prior_info.cwiseProduct(prior_twist);
     if (out.standing || inliers < dof) break;
     if (!with_yaw) {
       N.col(3).setZero();
@@ -207,7 +231,7 @@ EgoTwistEstimate estimate_ego_twist(const Scan& scan, const EgoTwistParams& para
       g(3) = 0.0;
     }
     const Eigen::Vector4d next = N.ldlt().solve(g);
-    if (!next.allFinite() || std::abs(next(3)) > params.max_yaw_rate_rps) break;
+    if (!next.allFinite() || std::abs(next(3)) > params.max_yaw_rate_rps || !admissible(next)) break;
     p = next;
   }
   out.inliers = inliers;

@@ -260,7 +260,21 @@ MotionEstimate MotionPipeline::process_robust(const Scan& scan, std::uint64_t fr
     return out;
   }
   const std::uint64_t frame_seed = mix_seed(params_.seed, frame_index);
-  const EgoTwistEstimate twist = estimate_ego_twist(scan, params_.ego, frame_seed);
+  // With tracking, the previous frame's twist bounds this one's (the rig's acceleration).
+  TwistPrior prior;
+  const double dt = scan.stamp_s - last_twist_stamp_s_;
+  const bool use_prior = params_.track_objects && has_last_twist_ && dt > 0.0 && dt <= params_.tracking.max_gap_s;
+  if (use_prior) {
+    prior.velocity_mps = last_twist_velocity_;
+    prior.yaw_rate_rps = last_twist_yaw_rate_;
+    prior.max_velocity_change_mps = params_.tracking.ego_accel_mps2 * dt + params_.tracking.ego_velocity_margin_mps;
+    prior.max_yaw_rate_change_rps = params_.tracking.ego_yaw_accel_rps2 * dt + params_.tracking.ego_yaw_rate_margin_rps;
+  }
+  const EgoTwistEstimate twist = estimate_ego_twist(scan, params_.ego, frame_seed, use_prior ? &prior : nullptr);
+  has_last_twist_ = twist.valid;
+  last_twist_stamp_s_ = scan.stamp_s;
+  last_twist_velocity_ = twist.velocity.velocity_mps;
+  last_twist_yaw_rate_ = twist.angular_velocity_rps.z();
   out.ego = twist.velocity;
   out.ego_angular_velocity_rps = twist.angular_velocity_rps;
   out.ego_yaw_rate_estimated = twist.yaw_rate_estimated;

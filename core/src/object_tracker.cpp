@@ -34,6 +34,9 @@ void TrackerParams::validate() const {
                  "tracking: claim_doppler_tolerance_mps must be > 0");
   FMCW_CHECK_ARG(max_length_m > 0.0 && max_width_m > 0.0, "tracking: box size caps must be > 0");
   FMCW_CHECK_ARG(max_gap_s > 0.0, "tracking: max_gap_s must be > 0, got ", max_gap_s);
+  FMCW_CHECK_ARG(ego_accel_mps2 > 0.0 && ego_velocity_margin_mps >= 0.0 && ego_yaw_accel_rps2 > 0.0 &&
+                     ego_yaw_rate_margin_rps >= 0.0,
+                 "tracking: ego acceleration bounds must be > 0 and margins >= 0");
 }
 
 namespace {

@@ -52,11 +52,26 @@ struct EgoTwistEstimate {
   Eigen::Vector3d velocity_at(const Eigen::Vector3d& r) const { return velocity.velocity_mps + angular_velocity_rps.cross(r); }
 };
 
+/// What the previous frame says about this one's twist: a rig cannot change its velocity or
+/// yaw rate by more than its acceleration allows between two frames. Hypotheses outside the
+/// window are rejected, and the previous twist is itself a hypothesis. This keeps the ego from
+/// jumping to vehicles that together fill most of the view (a bus on one side, a truck on the
+/// other, each explained as "static" by a wild yaw rate).
+struct TwistPrior {
+  Eigen::Vector3d velocity_mps = Eigen::Vector3d::Zero();
+  double yaw_rate_rps = 0.0;
+  double max_velocity_change_mps = 1.0;
+  double max_yaw_rate_change_rps = 0.3;
+};
+
 /// MSAC over minimal sets (3 points, or 4 with the yaw rate), each hypothesis scored first by
 /// how many azimuth columns of a coarse 24 x 6 grid over the image hold its inliers (the static
 /// world shows in nearly every azimuth, a bus beside or across the rig in a band of them), then
 /// by how many cells, then by its truncated squared residuals; then Huber IRLS on all valid
 /// points. Seeded: reproducible.
-EgoTwistEstimate estimate_ego_twist(const Scan& scan, const EgoTwistParams& params, std::uint64_t seed);
+/// With a prior, hypotheses outside its window are rejected; when nothing inside the window
+/// finds min_inliers points, the estimate starts afresh without the prior.
+EgoTwistEstimate estimate_ego_twist(const Scan& scan, const EgoTwistParams& params, std::uint64_t seed,
+                                    const TwistPrior* prior = nullptr);
 
 }  // namespace fmcw::core

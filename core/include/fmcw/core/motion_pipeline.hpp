@@ -138,6 +138,11 @@ class MotionPipeline {
   MotionPipelineParams params_;
   DopplerSegmenter segmenter_;
   ObjectTracker tracker_;
+  // The last frame's ego twist, for TwistPrior when tracking.
+  bool has_last_twist_ = false;
+  double last_twist_stamp_s_ = 0.0;
+  Eigen::Vector3d last_twist_velocity_ = Eigen::Vector3d::Zero();
+  double last_twist_yaw_rate_ = 0.0;
 };
 
 }  // namespace fmcw::core

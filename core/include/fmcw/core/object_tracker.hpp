@@ -41,6 +41,12 @@ struct TrackerParams {
   double heading_reset_rad = 0.25;      ///< a heading change beyond this re-measures the box
   double max_width_m = 4.0;
   double max_gap_s = 0.5;               ///< frames further apart (or going back in time) reset the tracker
+  /// The ego twist of the previous frame bounds the next one's (TwistPrior): by acceleration
+  /// times the frame gap, plus a margin.
+  double ego_accel_mps2 = 8.0;
+  double ego_velocity_margin_mps = 0.3;
+  double ego_yaw_accel_rps2 = 2.0;
+  double ego_yaw_rate_margin_rps = 0.1;
 
   void validate() const;
 };
