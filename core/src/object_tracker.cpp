@@ -24,6 +24,8 @@ void TrackerParams::validate() const {
                  "tracking: process noise must be > 0");
   FMCW_CHECK_ARG(initial_yaw_rate_sigma_rps > 0.0 && max_initial_velocity_sigma_mps > 0.0,
                  "tracking: initial uncertainties must be > 0");
+  FMCW_CHECK_ARG(min_turn_rate_rps >= 0.0 && turn_significance >= 0.0,
+                 "tracking: min_turn_rate_rps and turn_significance must be >= 0");
   FMCW_CHECK_ARG(gate_m >= 0.0 && claim_margin_m >= 0.0,
                  "tracking: gate_m and claim_margin_m must be >= 0");
   FMCW_CHECK_ARG(min_cluster_pixels >= 3, "tracking: min_cluster_pixels must be >= 3, got ",
@@ -545,10 +547,30 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     v = g.clusters.empty()
             ? VelocityEstimate{}
             : est.clusters[static_cast<std::size_t>(g.clusters.front() - 1)].velocity;
+    // The yaw rate is seen only through the track's path (a rigid body turning about a fixed
+    // point has a time-invariant Doppler field), and each rad/s of it moves the centre's
+    // velocity by |o - c| m/s. Unless the turn is resolved, report the velocity the Doppler
+    // measures, v + omega z x (o - c), with no turn.
+    Eigen::Vector2d o_mean = Eigen::Vector2d::Zero();
+    for (std::uint32_t i : g.pixels) o_mean += row_of(i).o;
+    o_mean /= static_cast<double>(std::max<std::size_t>(g.pixels.size(), 1));
+    const Eigen::Vector2d d = o_mean - tr.centre();
+    Eigen::Matrix<double, 2, 3> J;
+    J << 1.0, 0.0, -d.y(), 0.0, 1.0, d.x();
+    const double w_sigma = std::sqrt(std::max(0.0, tr.P(4, 4)));
+    const bool turning = std::abs(tr.yaw_rate()) >= p.min_turn_rate_rps &&
+                         std::abs(tr.yaw_rate()) >= p.turn_significance * w_sigma;
+    Eigen::Vector2d vel = tr.velocity();
+    Eigen::Matrix2d cov = tr.P.block<2, 2>(2, 2);
+    if (!turning) {
+      vel = J * tr.x.segment<3>(2);
+      cov = J * tr.P.block<3, 3>(2, 2) * J.transpose();
+      ce.yaw_rate_rps = 0.0;
+    }
     v.velocity_mps = Eigen::Vector3d::Zero();
-    v.velocity_mps.head<2>() = Rt * tr.velocity();
+    v.velocity_mps.head<2>() = Rt * vel;
     v.covariance = Eigen::Matrix3d::Zero();
-    v.covariance.topLeftCorner<2, 2>() = Rt * tr.P.block<2, 2>(2, 2) * R;
+    v.covariance.topLeftCorner<2, 2>() = Rt * cov * R;
     v.num_points = ce.num_pixels;
     v.valid = true;
   }

@@ -27,6 +27,11 @@ struct TrackerParams {
   double accel_sigma_mps2 = 2.5;        ///< constant-turn-rate model: acceleration noise [m/s^2]
   double yaw_accel_sigma_rps2 = 0.8;    ///< yaw acceleration noise [rad/s^2]
   double initial_yaw_rate_sigma_rps = 0.4;
+  /// A track counts as turning (its velocity reported at its centre with the yaw rate) when
+  /// |omega| exceeds both of these; otherwise the velocity reported is the one its Doppler
+  /// field shows, with yaw rate 0.
+  double min_turn_rate_rps = 0.05;
+  double turn_significance = 3.0;
   double max_initial_velocity_sigma_mps = 6.0;  ///< caps the unobservable direction at birth
   double gate_m = 2.0;                  ///< association: cluster centroid within the predicted box grown by this [m]
   int min_cluster_pixels = 8;           ///< smaller clusters neither start nor update tracks
