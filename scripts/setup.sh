@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages the project builds and runs with. Does nothing when they are
-# all present already. Run as root (or with sudo).
+# all present already. Run as root (or with sudo). --fuzz adds clang and libFuzzer
+# (scripts/fuzz.sh).
 set -euo pipefail
 
 packages=(
@@ -9,6 +10,7 @@ packages=(
   libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
   python3-matplotlib python3-numpy
 )
+if [ "${1:-}" = "--fuzz" ]; then packages+=(clang-14 libclang-rt-14-dev); fi
 
 missing=()
 for p in "${packages[@]}"; do

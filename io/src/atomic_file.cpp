@@ -41,7 +41,7 @@ void ensure_writable_directory(const std::string& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw std::runtime_error("cannot create output folder '" + dir + "': " + ec.message());
-  if (!fs::is_directory(dir)) throw std::runtime_error("output path '" + dir + "' is not a folder");
+  if (!fs::is_directory(dir, ec)) throw std::runtime_error("output path '" + dir + "' is not a folder");
   if (::access(dir.c_str(), W_OK) != 0) {
     throw std::runtime_error("output folder '" + dir + "' is not writable: " + std::strerror(errno));
   }

@@ -122,7 +122,8 @@ int prepare_resume(const fs::path& dir, const DatasetHeader& wanted) {
   const int done = found.frames_written;
   remove_partial_files(dir, first, first + done);
   for (int k = first; k < first + done; ++k) {
-    if (!fs::is_regular_file(dir / "frames" / frame_file_name(k))) {
+    std::error_code ec;
+    if (!fs::is_regular_file(dir / "frames" / frame_file_name(k), ec)) {
       throw std::invalid_argument(yaml_file + ": counts " + std::to_string(done) + " whole frames but " +
                                   (dir / "frames" / frame_file_name(k)).string() + " is missing; the dataset cannot be resumed");
     }
@@ -188,8 +189,8 @@ DatasetSummary write_dataset(const LoadedScenario& loaded_in, const DatasetOptio
     io::write_file_atomically(yaml_file.string(), [&](std::ostream& out) { out << header.to_yaml(); });
   };
   if (summary.frames_resumed == 0) {
-    for (const auto& [name, text] : {std::pair{"ego.csv", io::kEgoCsvHeader}, std::pair{"objects.csv", io::kObjectsCsvHeader}}) {
-      io::write_file_atomically((dir / name).string(), [&](std::ostream& out) { out << text; });
+    for (const auto& table : {std::pair{"ego.csv", io::kEgoCsvHeader}, std::pair{"objects.csv", io::kObjectsCsvHeader}}) {
+      io::write_file_atomically((dir / table.first).string(), [&](std::ostream& out) { out << table.second; });
     }
   }
   write_header();

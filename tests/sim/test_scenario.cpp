@@ -80,6 +80,7 @@ TEST_F(ScenarioFiles, MalformedYamlNamesFileAndLine) {
 
 TEST_F(ScenarioFiles, UnknownKeyIsNamedWithItsPlace) {
   expect_error("name: x\nframs: 3\n", {"s.yaml:2: unknown key 'frams' in the top level", "accepted:", "frames"});
+  expect_error("rig:\n  heads:\n    - {name: a, [2, 2]}\n", {"s.yaml:3: rig.heads[0]: a key must be a plain word, got a list"});
   expect_error("ego:\n  trajectory: {type: static, pose: {x: 1, yaww_deg: 3}}\n",
                {"unknown key 'yaww_deg' in ego.trajectory.pose"});
 }
