@@ -99,7 +99,7 @@ void remove_partial_files(const fs::path& dir, int first, int end) {
 
 // Checks that the dataset in dir was started with the same scenario and options, cleans up after
 // the stop, and returns how many whole frames it holds.
-int prepare_resume(const fs::path& dir, const DatasetHeader& wanted) {
+int prepare_resume(const fs::path& dir, const DatasetHeader& wanted, int total_frames) {
   const std::string yaml_file = (dir / "dataset.yaml").string();
   const DatasetHeader found = DatasetHeader::read(yaml_file);
   const std::string hint = " (resume needs the same scenario file, --frames, --seed, --shard and fmcw version)";
@@ -120,6 +120,10 @@ int prepare_resume(const fs::path& dir, const DatasetHeader& wanted) {
   }
   const int first = wanted.shard ? wanted.shard->first_frame : 0;
   const int done = found.frames_written;
+  if (done > total_frames) {
+    throw std::invalid_argument(yaml_file + ": counts " + std::to_string(done) + " frames, more than the " +
+                                std::to_string(total_frames) + " this run writes; the dataset cannot be resumed");
+  }
   remove_partial_files(dir, first, first + done);
   for (int k = first; k < first + done; ++k) {
     std::error_code ec;
@@ -171,7 +175,7 @@ DatasetSummary write_dataset(const LoadedScenario& loaded_in, const DatasetOptio
       throw std::invalid_argument("cannot resume: '" + options.output_dir + "' holds no dataset.yaml");
     }
     io::ensure_writable_directory((dir / "frames").string());
-    summary.frames_resumed = prepare_resume(dir, header);
+    summary.frames_resumed = prepare_resume(dir, header, shard.frames());
   } else {
     if (occupied && !options.overwrite) {
       throw std::invalid_argument("output folder '" + options.output_dir +
