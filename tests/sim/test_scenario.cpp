@@ -103,6 +103,8 @@ TEST_F(ScenarioFiles, RigErrorsNameTheHead) {
   expect_error("rig:\n  heads:\n    - {name: a, fov_deg: [0.01, 30]}\n", {"gives no pixels"});
   expect_error("rig:\n  heads:\n    - {name: a, max_range_m: 0}\n", {"max range must be > 0"});
   expect_error("rig: nowhere.yaml\n", {"rig config", "nowhere.yaml' does not exist"});
+  // A name the system rejects (longer than PATH_MAX) is reported like a missing file.
+  expect_error("rig: " + std::string(5000, 'r') + "\n", {"s.yaml:1: rig", "does not exist"});
 }
 
 TEST_F(ScenarioFiles, MeshProblemsAreNamed) {
