@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages the project builds and runs with. Does nothing when they are
-# all present already. Run as root (or with sudo).
+# all present already. Run as root (or with sudo). --fuzz adds clang and libFuzzer
+# (scripts/fuzz.sh).
 set -euo pipefail
 
 packages=(
@@ -11,6 +12,7 @@ packages=(
   # Python bindings and their tests; Open3D and PCL's tools check the exports (tests/python).
   pybind11-dev python3-pytest python3-open3d pcl-tools
 )
+if [ "${1:-}" = "--fuzz" ]; then packages+=(clang-14 libclang-rt-14-dev); fi
 
 missing=()
 for p in "${packages[@]}"; do

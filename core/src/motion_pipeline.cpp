@@ -49,6 +49,8 @@ void MotionPipelineParams::validate() const {
   ego.validate();
   instances.validate();
   FMCW_CHECK_ARG(moving_sigma > 0.0, "pipeline: moving_sigma must be > 0, got ", moving_sigma);
+  FMCW_CHECK_ARG(min_static_fraction >= 0.0 && min_static_fraction <= 1.0, "pipeline: min_static_fraction must be in [0, 1], got ",
+                 min_static_fraction);
   FMCW_CHECK_ARG(num_threads >= 0, "pipeline: num_threads must be >= 0, got ", num_threads);
   FMCW_CHECK_ARG(!track_objects || approach == MotionApproach::kRobustEgo,
                  "pipeline: track_objects needs the robust-ego approach");
@@ -243,6 +245,11 @@ bool merge_fragments(const Scan& scan, const std::vector<VelocityRows>& rows, co
   return true;
 }
 
+std::string no_static_world_message(int static_points, std::size_t valid, double min_fraction) {
+  return concat("ego velocity not estimable: no static world in view (", static_points, " of ", valid,
+                " valid points static, under the ", min_fraction * 100.0, " % minimum; is every point moving?)");
+}
+
 }  // namespace
 
 MotionEstimate MotionPipeline::process_robust(const Scan& scan, std::uint64_t frame_index) {
@@ -270,7 +277,11 @@ MotionEstimate MotionPipeline::process_robust(const Scan& scan, std::uint64_t fr
     prior.max_velocity_change_mps = params_.tracking.ego_accel_mps2 * dt + params_.tracking.ego_velocity_margin_mps;
     prior.max_yaw_rate_change_rps = params_.tracking.ego_yaw_accel_rps2 * dt + params_.tracking.ego_yaw_rate_margin_rps;
   }
-  const EgoTwistEstimate twist = estimate_ego_twist(scan, params_.ego, frame_seed, use_prior ? &prior : nullptr);
+  EgoTwistEstimate twist = estimate_ego_twist(scan, params_.ego, frame_seed, use_prior ? &prior : nullptr);
+  const std::size_t num_valid = scan.num_valid();
+  const int world_points = twist.inliers;
+  const bool no_world = twist.valid && world_points < params_.min_static_fraction * static_cast<double>(num_valid);
+  if (no_world) twist = EgoTwistEstimate{};
   has_last_twist_ = twist.valid;
   last_twist_stamp_s_ = scan.stamp_s;
   last_twist_velocity_ = twist.velocity.velocity_mps;
@@ -360,7 +371,10 @@ MotionEstimate MotionPipeline::process_robust(const Scan& scan, std::uint64_t fr
     cluster.velocity = velocity[static_cast<std::size_t>(c)];
   }
   out.timing.objects_ms = ms_since(t_obj);
-  if (!twist.valid) {
+  if (no_world) {
+    out.status = MotionStatus::kTooFewStaticPoints;
+    out.message = no_static_world_message(world_points, num_valid, params_.min_static_fraction);
+  } else if (!twist.valid) {
     out.status = MotionStatus::kTooFewStaticPoints;
     out.message = concat("ego velocity not estimable: ", twist.inliers, " points consistent with a static world");
   }
@@ -410,6 +424,8 @@ MotionEstimate MotionPipeline::process(const Scan& scan, std::uint64_t frame_ind
   const int k = seg.num_clusters();
   const std::vector<Eigen::Vector3d> col_origin = column_origins(scan);
   out.clusters.resize(static_cast<std::size_t>(k));
+  const std::size_t num_valid = scan.num_valid();
+  const bool no_world = seg.static_pixels < params_.min_static_fraction * static_cast<double>(num_valid);
 
   if (fused) {
     // Closed form on every point: one pass gathers the moments of all labels, then each
@@ -431,6 +447,7 @@ MotionEstimate MotionPipeline::process(const Scan& scan, std::uint64_t frame_ind
       build_ego_rows(scan, col_origin, pixels_with_label(out.labels, 0, s), rows);
       return rows;
     });
+    if (no_world) out.ego = VelocityEstimate{};
     out.timing.ego_ms = ms_since(t_ego);
     const auto t_obj = Clock::now();
     const Eigen::Vector3d V = out.ego.velocity_mps;
@@ -485,7 +502,7 @@ MotionEstimate MotionPipeline::process(const Scan& scan, std::uint64_t frame_ind
     {
       VelocityRows rows;
       build_ego_rows(scan, col_origin, downsample(pixels_of(0), vp.ego_max_points, mix_seed(frame_seed, 0)), rows);
-      out.ego = solve(rows, vp);
+      out.ego = no_world ? VelocityEstimate{} : solve(rows, vp);
     }
     out.timing.ego_ms = ms_since(t_ego);
 
@@ -512,7 +529,10 @@ MotionEstimate MotionPipeline::process(const Scan& scan, std::uint64_t frame_ind
     out.timing.objects_ms = ms_since(t_obj);
   }
 
-  if (!out.ego.valid) {
+  if (no_world) {
+    out.status = MotionStatus::kTooFewStaticPoints;
+    out.message = no_static_world_message(out.num_static_pixels, num_valid, params_.min_static_fraction);
+  } else if (!out.ego.valid) {
     out.status = MotionStatus::kTooFewStaticPoints;
     out.message = concat("ego velocity not estimable: ", out.num_static_pixels,
                          " static points (need >= 3 spanning 3 directions)");

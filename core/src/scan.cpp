@@ -93,10 +93,11 @@ void Scan::validate() const {
   // One branch-free pass; the slow search for the pixel to name runs only on failure.
   bool all_good = true;
   for (std::size_t i = 0; i < n; ++i) {
-    const bool finite = std::isfinite(x_m[i]) & std::isfinite(y_m[i]) & std::isfinite(z_m[i]) &
-                        std::isfinite(radial_velocity_mps[i]) & std::isfinite(intensity[i]) &
-                        std::isfinite(range_m[i]) & (range_m[i] > 0.0f);
-    all_good &= finite | (valid[i] == 0);
+    // int operands: bitwise on purpose (no short-circuit branches), which clang accepts for ints.
+    const int finite = int{std::isfinite(x_m[i])} & int{std::isfinite(y_m[i])} & int{std::isfinite(z_m[i])} &
+                       int{std::isfinite(radial_velocity_mps[i])} & int{std::isfinite(intensity[i])} &
+                       int{std::isfinite(range_m[i])} & int{range_m[i] > 0.0f};
+    all_good &= (finite | int{valid[i] == 0}) != 0;
   }
   if (all_good) return;
   for (int r = 0; r < rows; ++r) {

@@ -66,7 +66,12 @@ DatasetSource::DatasetSource(const std::string& dir, int max_frames) {
   const sim::YamlValue format = key(doc, "format");
   if (format.as_string() != "fmcw-dataset") format.fail("expected 'fmcw-dataset', got '" + format.as_string() + "'");
   const sim::YamlValue complete = key(doc, "complete");
-  if (!complete.as_bool()) complete.fail("the dataset is incomplete (its writer stopped early)");
+  if (doc.node()["shard"].IsDefined()) {
+    key(doc, "shard").fail("this is one shard of a dataset: join all shards with `fmcw merge` first");
+  }
+  if (!complete.as_bool()) {
+    complete.fail("the dataset is incomplete (its writer stopped early): finish it with `fmcw simulate ... --resume`");
+  }
   const sim::YamlValue written = key(doc, "frames_written");
   const sim::YamlValue scenario = key(doc, "scenario");
   info_.path = dir;

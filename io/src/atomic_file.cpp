@@ -20,11 +20,13 @@ void write_file_atomically(const std::string& path, const std::function<void(std
     if (!out) {
       throw std::runtime_error("cannot write '" + path + "': " + std::strerror(errno));
     }
+    // errno of the failed write(2) says why: ENOSPC on a full disk, EDQUOT over a quota, EIO.
+    errno = 0;
     write(out);
     out.flush();
-    if (!out) throw std::runtime_error("cannot write '" + path + "': write failed (disk full?)");
+    if (!out) throw std::runtime_error("cannot write '" + path + "': " + (errno ? std::strerror(errno) : "write failed"));
     out.close();
-    if (out.fail()) throw std::runtime_error("cannot write '" + path + "': close failed (disk full?)");
+    if (out.fail()) throw std::runtime_error("cannot write '" + path + "': " + (errno ? std::strerror(errno) : "close failed"));
     std::error_code ec;
     fs::rename(tmp, target, ec);
     if (ec) throw std::runtime_error("cannot write '" + path + "': rename failed: " + ec.message());
@@ -39,7 +41,7 @@ void ensure_writable_directory(const std::string& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw std::runtime_error("cannot create output folder '" + dir + "': " + ec.message());
-  if (!fs::is_directory(dir)) throw std::runtime_error("output path '" + dir + "' is not a folder");
+  if (!fs::is_directory(dir, ec)) throw std::runtime_error("output path '" + dir + "' is not a folder");
   if (::access(dir.c_str(), W_OK) != 0) {
     throw std::runtime_error("output folder '" + dir + "' is not writable: " + std::strerror(errno));
   }

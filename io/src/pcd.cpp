@@ -190,28 +190,50 @@ PcdCloud read_pcd(const std::string& path) {
   FMCW_CHECK_ARG(cloud.points() <= (std::size_t{1} << 31), where("POINTS"), " is too large: ", cloud.points());
 
   std::size_t stride = 0;
-  for (const auto& rf : raw) stride += static_cast<std::size_t>(rf.size) * static_cast<std::size_t>(rf.count);
+  std::size_t tokens_per_point = 0;
   for (const auto& rf : raw) {
-    if (rf.count == 1 && rf.name != "_") cloud.fields.push_back(PcdField{rf.name, rf.type, rf.size, std::vector<double>(cloud.points())});
+    stride += static_cast<std::size_t>(rf.size) * static_cast<std::size_t>(rf.count);
+    tokens_per_point += static_cast<std::size_t>(rf.count);
   }
   const std::size_t n = cloud.points();
-
+  // COUNT may be up to 2^31 per field: sizes are bounded before they are multiplied.
+  const std::size_t limit = static_cast<std::size_t>(std::numeric_limits<std::int64_t>::max() / 4);
+  FMCW_CHECK_ARG(n == 0 || (stride <= limit / n && tokens_per_point <= limit / n), where("POINTS"), ": ", n,
+                 " points of ", stride, " bytes is more data than a file can hold");
+  const std::streampos data_begin = in.tellg();
+  in.seekg(0, std::ios::end);
+  const std::streamoff available = in.tellg() - data_begin;
+  in.seekg(data_begin);
+  // The header is checked against the bytes that follow it before anything is allocated, so a
+  // header that lies about its size costs an error, not gigabytes.
+  constexpr std::streamoff kMaxPclPadding = 65536;
   if (data_kind == "binary") {
-    const std::streampos data_begin = in.tellg();
-    in.seekg(0, std::ios::end);
-    const std::streamoff available = in.tellg() - data_begin;
-    in.seekg(data_begin);
     const auto needed = static_cast<std::streamoff>(n * stride);
     FMCW_CHECK_ARG(available >= needed, path, ": truncated PCD: header promises ", n, " points of ", stride,
                    " bytes (", needed, " bytes) but the file holds ", available, " bytes of data");
     // PCL's own writer pads binary files with zeros to a memory page past the data; any other
-    // surplus means the header does not describe the data.
-    constexpr std::streamoff kMaxPclPadding = 65536;
-    std::vector<unsigned char> buf(static_cast<std::size_t>(std::min(available, needed + kMaxPclPadding)));
+    // surplus means the header does not describe the data (the zeros are checked once read).
+    FMCW_CHECK_ARG(available - needed < kMaxPclPadding, path, ": PCD data is ", available,
+                   " bytes but the header describes ", needed, " (", n, " points of ", stride,
+                   " bytes); the header does not match the data");
+  } else if (data_kind == "ascii") {
+    // Every value takes at least one character and one separator.
+    const auto needed = static_cast<std::streamoff>(n * tokens_per_point * 2);
+    FMCW_CHECK_ARG(available + 1 >= needed, path, ": truncated PCD: header promises ", n, " points of ", tokens_per_point,
+                   " values but only ", available, " bytes follow the header");
+  } else {
+    throw std::invalid_argument(concat(where("DATA"), " '", data_kind, "' is not supported (use binary or ascii)"));
+  }
+  for (const auto& rf : raw) {
+    if (rf.count == 1 && rf.name != "_") cloud.fields.push_back(PcdField{rf.name, rf.type, rf.size, std::vector<double>(n)});
+  }
+
+  if (data_kind == "binary") {
+    const auto needed = static_cast<std::streamoff>(n * stride);
+    std::vector<unsigned char> buf(static_cast<std::size_t>(available));
     in.read(reinterpret_cast<char*>(buf.data()), static_cast<std::streamsize>(buf.size()));
     FMCW_CHECK_ARG(static_cast<std::size_t>(in.gcount()) == buf.size(), path, ": read error in PCD data");
-    const bool zero_padding = available - needed < kMaxPclPadding &&
-                              std::all_of(buf.begin() + needed, buf.end(), [](unsigned char b) { return b == 0; });
+    const bool zero_padding = std::all_of(buf.begin() + needed, buf.end(), [](unsigned char b) { return b == 0; });
     FMCW_CHECK_ARG(available == needed || zero_padding, path, ": PCD data is ", available,
                    " bytes but the header describes ", needed, " (", n, " points of ", stride,
                    " bytes); the header does not match the data");
@@ -224,9 +246,7 @@ PcdCloud read_pcd(const std::string& path) {
       }
       offset += static_cast<std::size_t>(rf.size) * static_cast<std::size_t>(rf.count);
     }
-  } else if (data_kind == "ascii") {
-    std::size_t tokens_per_point = 0;
-    for (const auto& rf : raw) tokens_per_point += static_cast<std::size_t>(rf.count);
+  } else {  // ascii
     for (std::size_t i = 0; i < n; ++i) {
       if (!std::getline(in, line)) {
         throw std::invalid_argument(concat(path, ": truncated PCD: header promises ", n, " points, file ends after ", i));
@@ -249,8 +269,6 @@ PcdCloud read_pcd(const std::string& path) {
         t += static_cast<std::size_t>(rf.count);
       }
     }
-  } else {
-    throw std::invalid_argument(concat(where("DATA"), " '", data_kind, "' is not supported (use binary or ascii)"));
   }
   return cloud;
 }

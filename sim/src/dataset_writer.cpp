@@ -1,8 +1,11 @@
 #include "fmcw/sim/dataset_writer.hpp"
 
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include "fmcw/io/atomic_file.hpp"
@@ -14,11 +17,138 @@ namespace fmcw::sim {
 namespace fs = std::filesystem;
 
 namespace {
-std::string frame_name(int k) {
-  char name[32];
-  std::snprintf(name, sizeof name, "%06d.pcd", k);
-  return name;
+
+// Text as whole lines, each ending in a newline: the form DatasetHeader::read gives back.
+std::string whole_lines(const std::string& text) {
+  std::istringstream in(text);
+  std::string out;
+  for (std::string line; std::getline(in, line);) out += line + "\n";
+  return out;
 }
+
+// "line N: 'a' here, 'b' there" for the first line where two texts differ.
+std::string first_difference(const std::string& a, const std::string& b) {
+  std::istringstream ia(a), ib(b);
+  std::string la, lb;
+  for (int n = 1;; ++n) {
+    const bool more_a = static_cast<bool>(std::getline(ia, la));
+    const bool more_b = static_cast<bool>(std::getline(ib, lb));
+    if (!more_a && !more_b) return "none";
+    if (!more_a) la = "(end)";
+    if (!more_b) lb = "(end)";
+    if (la != lb) return "scenario line " + std::to_string(n) + ": '" + la + "' in the dataset, '" + lb + "' now";
+  }
+}
+
+// Frame index of a k-th CSV row ("frame,..."), or -1 when the row does not start with one.
+long long row_frame(const std::string& row) {
+  const std::size_t comma = row.find(',');
+  if (comma == 0 || comma == std::string::npos) return -1;
+  long long v = 0;
+  for (std::size_t i = 0; i < comma; ++i) {
+    if (row[i] < '0' || row[i] > '9' || v > 100000000000LL) return -1;
+    v = v * 10 + (row[i] - '0');
+  }
+  return v;
+}
+
+// Keeps the header and the rows of frames [first, end) of a truth table, drops the rest (rows of
+// frames after the last whole one, and a row cut short by a kill). Returns the distinct frames kept.
+int truncate_table(const fs::path& file, const char* header, int first, int end) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::invalid_argument(file.string() + ": missing; the dataset cannot be resumed");
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  if (text.rfind(header, 0) != 0) throw std::invalid_argument(file.string() + ": does not start with the expected header");
+  std::string kept = header;
+  int frames = 0;
+  long long last = -1;
+  for (std::size_t pos = std::strlen(header); pos < text.size();) {
+    const std::size_t nl = text.find('\n', pos);
+    if (nl == std::string::npos) break;  // a row cut short: it belongs to no whole frame
+    const std::string row = text.substr(pos, nl - pos + 1);
+    pos = nl + 1;
+    const long long k = row_frame(row);
+    if (k < first || k >= end) continue;
+    if (k != last) {
+      ++frames;
+      last = k;
+    }
+    kept += row;
+  }
+  io::write_file_atomically(file.string(), [&](std::ostream& out) { out << kept; });
+  return frames;
+}
+
+// Removes what a stopped run may leave beyond its whole frames: temporary files, and frame files
+// outside [first, end).
+void remove_partial_files(const fs::path& dir, int first, int end) {
+  for (const fs::path& folder : {dir, dir / "frames"}) {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(folder, ec)) {
+      const std::string name = entry.path().filename().string();
+      bool stale = name.rfind(".tmp.", 0) == 0;
+      if (folder != dir && entry.path().extension() == ".pcd" && !stale) {
+        const long long k = row_frame(name.substr(0, name.size() - 4) + ",");
+        stale = k < first || k >= end;
+      }
+      if (stale) fs::remove(entry.path());
+    }
+    if (ec) throw std::runtime_error("cannot list '" + folder.string() + "': " + ec.message());
+  }
+}
+
+// Checks that the dataset in dir was started with the same scenario and options, cleans up after
+// the stop, and returns how many whole frames it holds.
+int prepare_resume(const fs::path& dir, const DatasetHeader& wanted, int total_frames) {
+  const std::string yaml_file = (dir / "dataset.yaml").string();
+  const DatasetHeader found = DatasetHeader::read(yaml_file);
+  const std::string hint = " (resume needs the same scenario file, --frames, --seed, --shard and fmcw version)";
+  if (found.tool_version != wanted.tool_version) {
+    throw std::invalid_argument(yaml_file + ": written by fmcw " + found.tool_version + ", this is " +
+                                wanted.tool_version + hint);
+  }
+  if (found.scenario_yaml != wanted.scenario_yaml) {
+    throw std::invalid_argument(yaml_file + ": the dataset was started with another scenario or options, first difference at " +
+                                first_difference(found.scenario_yaml, wanted.scenario_yaml) + hint);
+  }
+  const auto shard_text = [](const std::optional<ShardInfo>& s) {
+    return s ? std::to_string(s->index) + "/" + std::to_string(s->count) : std::string("none");
+  };
+  if (found.shard.has_value() != wanted.shard.has_value() || (found.shard && !(*found.shard == *wanted.shard))) {
+    throw std::invalid_argument(yaml_file + ": the dataset is shard " + shard_text(found.shard) + ", this run is shard " +
+                                shard_text(wanted.shard) + hint);
+  }
+  const int first = wanted.shard ? wanted.shard->first_frame : 0;
+  const int done = found.frames_written;
+  if (done > total_frames) {
+    throw std::invalid_argument(yaml_file + ": counts " + std::to_string(done) + " frames, more than the " +
+                                std::to_string(total_frames) + " this run writes; the dataset cannot be resumed");
+  }
+  remove_partial_files(dir, first, first + done);
+  for (int k = first; k < first + done; ++k) {
+    std::error_code ec;
+    if (!fs::is_regular_file(dir / "frames" / frame_file_name(k), ec)) {
+      throw std::invalid_argument(yaml_file + ": counts " + std::to_string(done) + " whole frames but " +
+                                  (dir / "frames" / frame_file_name(k)).string() + " is missing; the dataset cannot be resumed");
+    }
+  }
+  const int ego_frames = truncate_table(dir / "ego.csv", io::kEgoCsvHeader, first, first + done);
+  truncate_table(dir / "objects.csv", io::kObjectsCsvHeader, first, first + done);
+  if (ego_frames != done) {
+    throw std::invalid_argument((dir / "ego.csv").string() + ": holds " + std::to_string(ego_frames) +
+                                " frames but dataset.yaml counts " + std::to_string(done) +
+                                "; the dataset cannot be resumed");
+  }
+  return done;
+}
+
+// Appends text to a file and flushes, so that it is on disk before dataset.yaml counts it.
+void append(std::ofstream& out, const fs::path& file, const std::string& text) {
+  out << text;
+  out.flush();
+  if (!out) throw std::runtime_error("cannot write '" + file.string() + "': " + std::strerror(errno));
+}
+
 }  // namespace
 
 DatasetSummary write_dataset(const LoadedScenario& loaded_in, const DatasetOptions& options,
@@ -27,48 +157,78 @@ DatasetSummary write_dataset(const LoadedScenario& loaded_in, const DatasetOptio
   Scenario& s = loaded.scenario;
   if (options.frames > 0) s.frames = options.frames;
   if (options.override_seed) s.seed = options.seed;
+  const ShardInfo shard = ShardInfo::of(options.shard_index, options.shard_count, s.frames);
+  DatasetHeader header;
+  header.tool_version = options.tool_version;
+  header.motion_distortion = s.motion_distortion;
+  if (options.shard_count > 1) header.shard = shard;
+  header.scenario_yaml = whole_lines(scenario_to_yaml(s));
+
   const fs::path dir(options.output_dir);
+  const fs::path yaml_file = dir / "dataset.yaml";
   std::error_code ec;
-  if (fs::exists(dir, ec) && !fs::is_empty(dir, ec) && !options.overwrite) {
-    throw std::invalid_argument("output folder '" + options.output_dir +
-                                "' exists and is not empty (choose another folder or pass --overwrite)");
+  const bool occupied = fs::exists(dir, ec) && !fs::is_empty(dir, ec);
+  DatasetSummary summary;
+  summary.frames_total = shard.frames();
+  if (options.resume && occupied) {
+    if (!fs::is_regular_file(yaml_file, ec)) {
+      throw std::invalid_argument("cannot resume: '" + options.output_dir + "' holds no dataset.yaml");
+    }
+    io::ensure_writable_directory((dir / "frames").string());
+    summary.frames_resumed = prepare_resume(dir, header, shard.frames());
+  } else {
+    if (occupied && !options.overwrite) {
+      throw std::invalid_argument("output folder '" + options.output_dir +
+                                  "' exists and is not empty (choose another folder, pass --overwrite, or --resume "
+                                  "to continue a stopped run)");
+    }
+    io::ensure_writable_directory((dir / "frames").string());
+    // Files of an earlier dataset here would be taken for part of this one.
+    remove_partial_files(dir, 0, 0);
   }
-  io::ensure_writable_directory((dir / "frames").string());
+  summary.frames_written = summary.frames_resumed;
+  const auto write_header = [&] {
+    header.frames_written = summary.frames_written;
+    header.complete = summary.frames_written == shard.frames();
+    io::write_file_atomically(yaml_file.string(), [&](std::ostream& out) { out << header.to_yaml(); });
+  };
+  if (summary.frames_resumed == 0) {
+    for (const auto& table : {std::pair{"ego.csv", io::kEgoCsvHeader}, std::pair{"objects.csv", io::kObjectsCsvHeader}}) {
+      io::write_file_atomically((dir / table.first).string(), [&](std::ostream& out) { out << table.second; });
+    }
+  }
+  write_header();
+  if (summary.frames_written == shard.frames()) return summary;
 
   const auto t0 = std::chrono::steady_clock::now();
   SimulationSetup setup = build_simulation(loaded, options.num_threads);
   LidarSimulator simulator(setup.scene, setup.ego, setup.params);
-  std::string ego_rows = io::kEgoCsvHeader;
-  std::string object_rows = io::kObjectsCsvHeader;
-  DatasetSummary summary;
-  core::Frame frame;
-  for (int k = 0; k < s.frames; ++k) {
-    simulator.simulate(static_cast<std::uint64_t>(k), s.frame_time_s(static_cast<std::uint64_t>(k)), frame);
-    io::write_frame((dir / "frames" / frame_name(k)).string(), frame);
-    ego_rows += io::ego_csv_row(static_cast<std::size_t>(k), *frame.frame_truth);
-    object_rows += io::objects_csv_rows(static_cast<std::size_t>(k), *frame.frame_truth);
-    summary.returns += frame.scan.num_valid();
-    summary.frames_written = k + 1;
-    if (progress) progress(k + 1, s.frames);
+  std::ofstream ego_out(dir / "ego.csv", std::ios::binary | std::ios::app);
+  std::ofstream objects_out(dir / "objects.csv", std::ios::binary | std::ios::app);
+  if (!ego_out || !objects_out) {
+    throw std::runtime_error("cannot open the truth tables in '" + options.output_dir + "': " + std::strerror(errno));
   }
-  const auto write_text = [&](const char* name, const std::string& text) {
-    io::write_file_atomically((dir / name).string(), [&](std::ostream& out) { out << text; });
-  };
-  write_text("ego.csv", ego_rows);
-  write_text("objects.csv", object_rows);
-  std::ostringstream yaml;
-  yaml << "# FMCW LiDAR dataset written by fmcw simulate\n"
-       << "format: fmcw-dataset\nformat_version: 1\n"
-       << "tool_version: " << options.tool_version << "\n"
-       << "complete: true\n"
-       << "frames_written: " << summary.frames_written << "\n"
-       << "frame_files: frames/%06d.pcd\n"
-       << "fields: [x, y, z, range, v, intensity" << (s.motion_distortion ? ", t" : "")
-       << ", gt_range, gt_v, gt_vx, gt_vy, gt_vz, instance, moving]\n"
-       << "scenario:\n";
-  std::istringstream resolved(scenario_to_yaml(s));
-  for (std::string line; std::getline(resolved, line);) yaml << "  " << line << "\n";
-  write_text("dataset.yaml", yaml.str());
+  core::Frame frame;
+  try {
+    for (int k = shard.first_frame + summary.frames_written; k < shard.end_frame; ++k) {
+      if (options.stop_requested && options.stop_requested()) {
+        summary.interrupted = true;
+        break;
+      }
+      simulator.simulate(static_cast<std::uint64_t>(k), s.frame_time_s(static_cast<std::uint64_t>(k)), frame);
+      io::write_frame((dir / "frames" / frame_file_name(k)).string(), frame);
+      append(ego_out, dir / "ego.csv", io::ego_csv_row(static_cast<std::size_t>(k), *frame.frame_truth));
+      append(objects_out, dir / "objects.csv", io::objects_csv_rows(static_cast<std::size_t>(k), *frame.frame_truth));
+      summary.returns += frame.scan.num_valid();
+      ++summary.frames_written;
+      write_header();
+      if (progress) progress(summary.frames_written, shard.frames());
+    }
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string(e.what()) + "; " + options.output_dir + " holds " +
+                             std::to_string(summary.frames_written) + " of " + std::to_string(shard.frames()) +
+                             " frames whole: fix the cause and continue with --resume");
+  }
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return summary;
 }

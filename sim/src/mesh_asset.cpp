@@ -1,4 +1,5 @@
 #include "fmcw/sim/mesh_asset.hpp"
+#include "fmcw/sim/yaml_reader.hpp"
 
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -89,7 +90,7 @@ MeshAsset box_mesh(const Eigen::Vector3f& h, float reflectivity, const std::stri
 }
 
 MeshAsset load_mesh_asset(const std::string& path, const ReflectivityTable& reflectivity, float default_reflectivity) {
-  if (!std::filesystem::is_regular_file(path)) {
+  if (!is_existing_file(path)) {
     throw std::invalid_argument("mesh '" + path + "' does not exist");
   }
   Assimp::Importer importer;

@@ -171,7 +171,7 @@ ObjectSpec read_object(const YamlValue& value, bool is_actor, const std::string&
   ObjectSpec o;
   o.mesh = m.at("mesh").as_string();
   o.mesh_path = resolve_path(scenario_file, o.mesh);
-  if (!fs::is_regular_file(o.mesh_path)) m.at("mesh").fail("mesh file '" + o.mesh_path + "' does not exist");
+  if (!is_existing_file(o.mesh_path)) m.at("mesh").fail("mesh file '" + o.mesh_path + "' does not exist");
   if (m.has("mesh_transform")) {
     const YamlValue mt = m.at("mesh_transform");
     YamlMap t(mt);
@@ -258,9 +258,36 @@ double TrajectorySpec::nominal_speed_mps() const {
   return 0.0;
 }
 
-core::RigModel load_rig(const std::string& path) { return read_rig(YamlValue::load_file(path)); }
+namespace {
+
+// yaml-cpp throws its own exceptions from conversions the readers above did not foresee; they
+// become the documented error, with the file and the place yaml-cpp names.
+template <typename Read>
+auto with_yaml_errors_named(const std::string& path, Read read) {
+  try {
+    return read();
+  } catch (const YAML::Exception& e) {
+    std::ostringstream msg;
+    msg << path << ":" << e.mark.line + 1 << ":" << e.mark.column + 1 << ": " << e.msg;
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+LoadedScenario load_scenario_unchecked(const std::string& path);
+
+}  // namespace
+
+core::RigModel load_rig(const std::string& path) {
+  return with_yaml_errors_named(path, [&] { return read_rig(YamlValue::load_file(path)); });
+}
 
 LoadedScenario load_scenario(const std::string& path) {
+  return with_yaml_errors_named(path, [&] { return load_scenario_unchecked(path); });
+}
+
+namespace {
+
+LoadedScenario load_scenario_unchecked(const std::string& path) {
   const YamlValue root = YamlValue::load_file(path);
   YamlMap m(root);
   LoadedScenario loaded;
@@ -278,7 +305,7 @@ LoadedScenario load_scenario(const std::string& path) {
     const YamlValue rig = m.at("rig");
     if (rig.is_scalar()) {
       const std::string file = resolve_path(path, rig.as_string());
-      if (!fs::is_regular_file(file)) rig.fail("rig config '" + file + "' does not exist");
+      if (!is_existing_file(file)) rig.fail("rig config '" + file + "' does not exist");
       s.rig = load_rig(file);
       s.rig_source = file;
     } else {
@@ -327,7 +354,7 @@ LoadedScenario load_scenario(const std::string& path) {
   if (m.has("materials")) {
     const YamlValue mat = m.at("materials");
     s.materials_file = resolve_path(path, mat.as_string());
-    if (!fs::is_regular_file(s.materials_file)) mat.fail("materials file '" + s.materials_file + "' does not exist");
+    if (!is_existing_file(s.materials_file)) mat.fail("materials file '" + s.materials_file + "' does not exist");
     s.materials = read_materials(s.materials_file);
   } else {
     m.get("materials", 0.0);
@@ -412,6 +439,8 @@ LoadedScenario load_scenario(const std::string& path) {
   m.finish();
   return loaded;
 }
+
+}  // namespace
 
 std::string scenario_to_yaml(const Scenario& s) {
   YAML::Emitter out;

@@ -8,11 +8,16 @@
 
 namespace fmcw::sim {
 
+bool is_existing_file(const std::string& path) {
+  std::error_code ec;
+  return std::filesystem::is_regular_file(path, ec);
+}
+
 YamlValue::YamlValue(YAML::Node node, std::string file, std::string path)
     : node_(std::move(node)), file_(std::move(file)), path_(std::move(path)) {}
 
 YamlValue YamlValue::load_file(const std::string& file) {
-  if (!std::filesystem::is_regular_file(file)) throw std::invalid_argument(file + ": file does not exist");
+  if (!is_existing_file(file)) throw std::invalid_argument(file + ": file does not exist");
   YAML::Node root;
   try {
     root = YAML::LoadFile(file);
@@ -96,6 +101,15 @@ std::vector<double> YamlValue::as_doubles() const {
 
 YamlMap::YamlMap(const YamlValue& value) : value_(value) {
   if (!value.is_map()) value.fail("expected a map of keys");
+  for (const auto& kv : value.node()) {
+    if (!kv.first.IsScalar()) {
+      std::ostringstream msg;
+      msg << value_.file() << ":" << kv.first.Mark().line + 1 << ": "
+          << (value_.path().empty() ? "top level" : value_.path()) << ": a key must be a plain word, got a "
+          << (kv.first.IsSequence() ? "list" : kv.first.IsMap() ? "map" : "null");
+      throw std::invalid_argument(msg.str());
+    }
+  }
 }
 
 bool YamlMap::has(const std::string& key) const {
@@ -123,7 +137,7 @@ std::string YamlMap::get(const std::string& key, const std::string& fallback) {
 
 void YamlMap::finish() const {
   for (const auto& kv : value_.node()) {
-    const std::string key = kv.first.as<std::string>();
+    const std::string key = kv.first.Scalar();
     if (used_.count(key)) continue;
     std::string list;
     for (const auto& a : used_) list += (list.empty() ? "" : ", ") + a;

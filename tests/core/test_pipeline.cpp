@@ -214,6 +214,24 @@ TEST(MotionPipeline, FewerThanThreeStaticPointsIsAStatusNotACrash) {
   EXPECT_FALSE(est.ego.valid);
 }
 
+// Every return moving, each at its own velocity (a swarm, or a sensor fault): no set of points
+// agrees on one ego motion, so no method may report one.
+TEST(MotionPipeline, ScanWithEveryPointMovingGivesTheStatusNotAnEgoVelocity) {
+  Frame frame = render_synthetic_scan(fmcw::test::static_courtyard());
+  std::uint64_t state = 12345;
+  for (std::size_t i = 0; i < frame.scan.size(); ++i) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;  // LCG: reproducible
+    frame.scan.radial_velocity_mps[i] = static_cast<float>(static_cast<double>(state >> 11) / 9007199254740992.0 * 40.0 - 20.0);
+  }
+  for (const std::string& method : MotionPipelineParams::preset_names()) {
+    const MotionEstimate est = MotionPipeline(MotionPipelineParams::preset(method)).process(frame.scan);
+    EXPECT_EQ(est.status, MotionStatus::kTooFewStaticPoints) << method << ": " << est.message << " ego "
+                                                             << est.ego.velocity_mps.transpose();
+    EXPECT_NE(est.message.find("ego velocity not estimable"), std::string::npos) << method << ": " << est.message;
+    EXPECT_FALSE(est.ego.valid) << method;
+  }
+}
+
 TEST(MotionPipeline, NaNVelocityInAValidPixelIsRejectedWithItsPixel) {
   SyntheticSceneParams p = fmcw::test::static_courtyard();
   Frame frame = render_synthetic_scan(p);

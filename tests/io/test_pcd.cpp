@@ -141,6 +141,16 @@ TEST_F(PcdTest, HeaderThatLiesAboutItsSizeIsRejected) {
   expect_error("u.pcd", {"u.pcd: PCD header has no SIZE line"});
   write_text("c.pcd", header("x y z v", "4 4 4 4", "F F F F", 2, 2, 4, "binary_compressed"));
   expect_error("c.pcd", {"DATA 'binary_compressed' is not supported"});
+  // A header promising 1.6 billion points over 64 bytes is refused before anything is allocated.
+  write_text("big.pcd", header("x y z v", "4 4 4 4", "F F F F", 40000, 40000, 1600000000) + std::string(64, '\0'));
+  expect_error("big.pcd", {"big.pcd: truncated PCD: header promises 1600000000 points of 16 bytes", "64 bytes of data"});
+  write_text("bigascii.pcd", header("x y z v", "4 4 4 4", "F F F F", 40000, 40000, 1600000000, "ascii") + "1 2 3 4\n");
+  expect_error("bigascii.pcd", {"truncated PCD: header promises 1600000000 points of 4 values but only 8 bytes follow"});
+  write_text("cnt.pcd", "VERSION 0.7\nFIELDS x y z v\nSIZE 4 4 4 8\nTYPE F F F F\nCOUNT 1 1 1 2147483647\nWIDTH 40000\n"
+                        "HEIGHT 40000\nPOINTS 1600000000\nDATA binary\n");
+  expect_error("cnt.pcd", {"POINTS: 1600000000 points of", "is more data than a file can hold"});
+  write_text("asc.pcd", header("x y z v", "4 4 4 4", "F F F F", 2, 2, 4, "ascii") + "1 2 3 4\n1 2 3 4\n1 2 3 4\n");
+  expect_error("asc.pcd", {"asc.pcd: truncated PCD: header promises 4 points"});
 }
 
 // PCL's writer stretches binary files to a memory page past the data, with zeros.

@@ -80,6 +80,7 @@ TEST_F(ScenarioFiles, MalformedYamlNamesFileAndLine) {
 
 TEST_F(ScenarioFiles, UnknownKeyIsNamedWithItsPlace) {
   expect_error("name: x\nframs: 3\n", {"s.yaml:2: unknown key 'frams' in the top level", "accepted:", "frames"});
+  expect_error("rig:\n  heads:\n    - {name: a, [2, 2]}\n", {"s.yaml:3: rig.heads[0]: a key must be a plain word, got a list"});
   expect_error("ego:\n  trajectory: {type: static, pose: {x: 1, yaww_deg: 3}}\n",
                {"unknown key 'yaww_deg' in ego.trajectory.pose"});
 }
@@ -87,6 +88,10 @@ TEST_F(ScenarioFiles, UnknownKeyIsNamedWithItsPlace) {
 TEST_F(ScenarioFiles, WrongTypesAndOutOfRangeValuesAreRejected) {
   expect_error("frames: many\n", {"s.yaml:1: frames: expected a finite number, got 'many'"});
   expect_error("frames: 0\n", {"frames must be >= 1"});
+  expect_error("frames: 2.5\n", {"s.yaml:1: frames: expected an integer, got '2.5'"});
+  expect_error("seed: -3\n", {"s.yaml:1: seed: expected a non-negative integer, got '-3'"});
+  expect_error("ground: 4\n", {"s.yaml:1: ground: expected a map of keys"});
+  expect_error("static: {mesh: a.obj}\n", {"s.yaml:1: static: expected a list"});
   expect_error("rate_hz: -10\n", {"rate_hz must be > 0"});
   expect_error("measurement: {range_sigma_m: -1}\n", {"measurement", "range_sigma_m must be >= 0"});
 }
@@ -98,22 +103,45 @@ TEST_F(ScenarioFiles, RigErrorsNameTheHead) {
   expect_error("rig:\n  heads:\n    - {name: a, fov_deg: [0.01, 30]}\n", {"gives no pixels"});
   expect_error("rig:\n  heads:\n    - {name: a, max_range_m: 0}\n", {"max range must be > 0"});
   expect_error("rig: nowhere.yaml\n", {"rig config", "nowhere.yaml' does not exist"});
+  // A name the system rejects (longer than PATH_MAX) is reported like a missing file.
+  expect_error("rig: " + std::string(5000, 'r') + "\n", {"s.yaml:1: rig", "does not exist"});
 }
 
 TEST_F(ScenarioFiles, MeshProblemsAreNamed) {
   expect_error("static:\n  - {mesh: missing.obj}\n", {"static[0].mesh", "missing.obj' does not exist"});
   write("garbage.obj", "this is not a mesh\n\x01\x02\x03");
   write("garbage.gltf", "{ not json");
-  expect_error("static:\n  - {mesh: garbage.gltf}\n", {"static[0]", "garbage.gltf' cannot be read"});
+  expect_error("static:\n  - {mesh: garbage.gltf}\n", {"s.yaml:2: static[0]", "garbage.gltf' cannot be read"});
+  expect_error("static:\n  - {mesh: garbage.obj}\n", {"s.yaml:2: static[0]", "garbage.obj' cannot be read"});
+  // No triangles: no faces at all (assimp refuses it), or only lines.
   write("empty.obj", "# no faces\nv 0 0 0\nv 1 0 0\n");
-  expect_error("static:\n  - {mesh: empty.obj}\n", {"static[0]", "empty.obj'"});
+  expect_error("static:\n  - {mesh: empty.obj}\n", {"s.yaml:2: static[0]", "empty.obj' cannot be read", "no faces"});
+  write("lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\n");
+  expect_error("static:\n  - {mesh: lines.obj}\n", {"s.yaml:2: static[0]", "lines.obj' holds no triangles"});
+  // An asset missing from an actor, and a materials table that is not there.
+  expect_error("actors:\n  - {id: 1, class: car, mesh: nocar.gltf, trajectory: {type: static}}\n",
+               {"s.yaml:2: actors[0].mesh", "nocar.gltf' does not exist"});
+  expect_error("materials: nomaterials.yaml\n", {"s.yaml:1: materials", "nomaterials.yaml"});
 }
 
 TEST_F(ScenarioFiles, TrajectoryProblemsAreNamed) {
   const std::string car = asset("car.gltf");
   expect_error("actors:\n  - {id: 1, class: car, mesh: " + car +
                    ", trajectory: {type: waypoints, points: [[0, 0]], speed_mps: 3}}\n",
-               {"actors[0].trajectory"});
+               {"s.yaml:2: actors[0].trajectory", "need at least 2 points, got 1"});
+  // Waypoint times follow from the path and its speeds: time stands still where two points
+  // coincide or a segment has zero speed at both ends, and both are rejected.
+  expect_error("actors:\n  - {id: 1, class: car, mesh: " + car +
+                   ", trajectory: {type: waypoints, points: [[0, 0], [5, 0], [5, 0]], speed_mps: 3}}\n",
+               {"s.yaml:2: actors[0].trajectory", "points 1 and 2 coincide"});
+  expect_error("actors:\n  - {id: 1, class: car, mesh: " + car +
+                   ", trajectory: {type: waypoints, points: [[0, 0], [5, 0], [9, 0]], speed_mps: [2, 0, 0]}}\n",
+               {"s.yaml:2: actors[0].trajectory", "speeds at points 1"});
+  expect_error("actors:\n  - {id: 1, class: car, mesh: " + car +
+                   ", trajectory: {type: waypoints, points: [[0, 0], [5, 0]], speed_mps: -1}}\n",
+               {"speeds must be finite and >= 0"});
+  expect_error("ego:\n  trajectory: {type: waypoints, points: [[0, 0], [5, 0]], speed_mps: 2, start_time_s: .nan}\n",
+               {"s.yaml:2: ego.trajectory"});
   expect_error("actors:\n  - {id: 1, class: car, mesh: " + car + ", trajectory: {type: teleport}}\n",
                {"unknown trajectory type 'teleport'"});
   expect_error("actors:\n  - {id: 0, class: car, mesh: " + car + ", trajectory: {type: static}}\n",

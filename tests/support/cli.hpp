@@ -17,10 +17,10 @@ struct CliResult {
   std::string output;  ///< stdout and stderr
 };
 
-/// Runs `fmcw ARGS` through the shell and collects its output and exit code.
-inline CliResult run_cli(const std::string& args) {
+/// Runs a shell command and collects its output (stdout and stderr) and exit code.
+inline CliResult run_shell(const std::string& command) {
   CliResult r;
-  const std::string cmd = std::string(FMCW_CLI_PATH) + " " + args + " 2>&1";
+  const std::string cmd = "(" + command + ") 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (!pipe) return r;
   char buf[4096];
@@ -30,6 +30,9 @@ inline CliResult run_cli(const std::string& args) {
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return r;
 }
+
+/// Runs `fmcw ARGS` through the shell and collects its output and exit code.
+inline CliResult run_cli(const std::string& args) { return run_shell(std::string(FMCW_CLI_PATH) + " " + args); }
 
 /// A whole file as bytes.
 inline std::string slurp(const std::filesystem::path& p) {

@@ -16,6 +16,7 @@ Action add_process_command(CLI::App& app);
 Action add_synth_command(CLI::App& app);
 Action add_bench_command(CLI::App& app);
 Action add_simulate_command(CLI::App& app);
+Action add_merge_command(CLI::App& app);
 Action add_evaluate_command(CLI::App& app);
 Action add_run_command(CLI::App& app);
 Action add_study_command(CLI::App& app);

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
     actions[app.get_subcommands({}).at(before)] = std::move(action);
   };
   reg(fmcw::cli::add_simulate_command);
+  reg(fmcw::cli::add_merge_command);
   reg(fmcw::cli::add_process_command);
   reg(fmcw::cli::add_synth_command);
   reg(fmcw::cli::add_bench_command);

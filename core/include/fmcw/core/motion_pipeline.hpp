@@ -52,6 +52,12 @@ struct MotionPipelineParams {
   /// kRobustEgo: objects move in the horizontal plane of the rig (v_z = 0). A few degrees of
   /// elevation leave v_z nearly unobservable, and limbs or wheels would leak into it.
   bool planar_objects = true;
+  /// Every method: when fewer than this fraction of the valid points belong to the static world
+  /// (the largest region, or the ego twist's inliers), the scan shows no static world (every
+  /// point moving, each its own way) and no ego velocity is reported: kTooFewStaticPoints.
+  /// Noise-like Doppler gives chance "worlds" of a few pixels (paper, fast) or about
+  /// 2 x inlier threshold / Doppler spread of the points (robust: 0.5 % over +-20 m/s).
+  double min_static_fraction = 0.01;
   std::uint64_t seed = 0;  ///< seeds the random subsampling (mixed with the frame index)
   int num_threads = 0;     ///< per-object estimation threads; 0 = OpenMP default, 1 = serial
 

@@ -10,6 +10,10 @@
 
 namespace fmcw::sim {
 
+/// True for an existing regular file; false, never an exception, for a path the system rejects
+/// (too long, a component not a folder, no permission): a scenario may name anything.
+bool is_existing_file(const std::string& path);
+
 class YamlValue {
  public:
   YamlValue(YAML::Node node, std::string file, std::string path);
