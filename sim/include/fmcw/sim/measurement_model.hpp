@@ -1,6 +1,7 @@
 #pragma once
 // From the true range and radial velocity of a hit to what the sensor reports.
 
+#include <cmath>
 #include <string>
 
 #include "fmcw/core/random.hpp"
@@ -47,7 +48,15 @@ class MeasurementModel {
   };
   /// The reported range and radial velocity of a return. Draws from rng (Gaussian model, or
   /// beat-frequency jitter) in a fixed order, so a seeded rng gives reproducible readings.
-  Reading measure(double true_range_m, double true_radial_velocity_mps, core::Rng& rng) const;
+  /// Inline: it runs once per pixel.
+  Reading measure(double true_range_m, double true_radial_velocity_mps, core::Rng& rng) const {
+    if (params_.model != MeasurementParams::Model::kGaussian) {
+      return measure_beat_frequency(true_range_m, true_radial_velocity_mps, rng);
+    }
+    const double dr = params_.range_sigma_m * rng.normal();
+    const double dv = params_.velocity_sigma_mps * rng.normal();
+    return {true_range_m + dr, true_radial_velocity_mps + dv};
+  }
 
   BeatFrequencies beat_frequencies(double range_m, double radial_velocity_mps) const;
   Reading from_beat_frequencies(const BeatFrequencies& f) const;  ///< Eq. 2 and Eq. 4
@@ -57,11 +66,16 @@ class MeasurementModel {
   const MeasurementParams& params() const { return params_; }
 
  private:
+  Reading measure_beat_frequency(double true_range_m, double true_radial_velocity_mps, core::Rng& rng) const;
   MeasurementParams params_;
 };
 
 /// Return intensity: Lambertian reflectivity times the cosine of incidence, falling with the
 /// square of range beyond a 10 m reference (a bright wall at 10 m gives its reflectivity).
-float return_intensity(float reflectivity, double cos_incidence, double range_m);
+inline float return_intensity(float reflectivity, double cos_incidence, double range_m) {
+  constexpr double kReferenceRange = 10.0;
+  const double falloff = range_m > kReferenceRange ? (kReferenceRange * kReferenceRange) / (range_m * range_m) : 1.0;
+  return static_cast<float>(reflectivity * std::abs(cos_incidence) * falloff);
+}
 
 }  // namespace fmcw::sim
