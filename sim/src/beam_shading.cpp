@@ -20,8 +20,8 @@ struct TrueReturn {
 // The loops below copy what they read into locals before calling this: a byte store (valid,
 // moving) may alias anything reached through a reference, which would force reloads.
 inline void report(const PixelArrays& out, const MeasurementModel& measurement, const Eigen::Vector3f* directions_rig,
-                   const Eigen::Vector3d& mount_rig, std::size_t i, const TrueReturn& t, core::Rng& rng) {
-  const MeasurementModel::Reading m = measurement.measure(t.range_m, t.doppler_mps, rng);
+                   const Eigen::Vector3d& mount_rig, std::size_t i, const TrueReturn& t, const double* normals) {
+  const MeasurementModel::Reading m = measurement.measure(t.range_m, t.doppler_mps, normals);
   // Reported along the beam's axis, in the rig frame of the beam's own instant (the motion skew
   // of a real sweep): T_rig_world (o + r e) = mount + r e_rig.
   const Eigen::Vector3d p_rig = mount_rig + m.range_m * directions_rig[i].cast<double>();
@@ -59,8 +59,8 @@ PixelArrays::PixelArrays(core::Scan& scan, core::PixelGroundTruth& gt)
       gt_instance(gt.instance.data()),
       gt_moving(gt.moving.data()) {}
 
-void shade_beams(const ShadingContext& ctx, const HeadState& head, std::size_t row, int c0, int c1, const RayHit* hits,
-                 core::Rng& rng, int* actor_pixels) {
+const double* shade_beams(const ShadingContext& ctx, const HeadState& head, std::size_t row, int c0, int c1,
+                          const RayHit* hits, const double* normals, int* actor_pixels) {
   const Scene& scene = ctx.scene;
   const PixelArrays out = ctx.out;
   const Eigen::Vector3f* const directions_world = ctx.directions_world;
@@ -100,8 +100,10 @@ void shade_beams(const ShadingContext& ctx, const HeadState& head, std::size_t r
       ++actor_pixels[part.actor_index];
     }
     t.intensity = return_intensity(reflectivity, cos_incidence, t.range_m);
-    report(out, ctx.measurement, directions_rig, h.mount_rig, i, t, rng);
+    report(out, ctx.measurement, directions_rig, h.mount_rig, i, t, normals);
+    normals += 2;
   }
+  return normals;
 }
 
 void shade_sub_ray_beams(const ShadingContext& ctx, const SubRayShading& sub_rays, const HeadState& head, std::size_t row,
@@ -137,7 +139,8 @@ void shade_sub_ray_beams(const ShadingContext& ctx, const SubRayShading& sub_ray
                                        std::make_pair(t.instance, std::size_t{0}));
       ++actor_pixels[it->second];
     }
-    report(ctx.out, ctx.measurement, ctx.directions_rig, head.mount_rig, i, t, rng);
+    const double normals[2] = {rng.normal(), rng.normal()};
+    report(ctx.out, ctx.measurement, ctx.directions_rig, head.mount_rig, i, t, normals);
   }
 }
 

@@ -66,11 +66,12 @@ struct HeadState {
   Eigen::Vector3d mount_rig;
 };
 
-/// Pixels row + [c0, c1) from one ray per beam; hits[c] is column c's hit. Draws the noise of
-/// each return from rng in column order and counts actor pixels into actor_pixels (per actor
-/// index).
-void shade_beams(const ShadingContext& ctx, const HeadState& head, std::size_t row, int c0, int c1, const RayHit* hits,
-                 core::Rng& rng, int* actor_pixels);
+/// Pixels row + [c0, c1) from one ray per beam; hits[c] is column c's hit. The returns, in
+/// column order, take their measurement noise from two standard normals each, drawn beforehand
+/// (MeasurementModel::measure); returns the first normal not used. Counts actor pixels into
+/// actor_pixels (per actor index).
+const double* shade_beams(const ShadingContext& ctx, const HeadState& head, std::size_t row, int c0, int c1,
+                          const RayHit* hits, const double* normals, int* actor_pixels);
 
 /// The same for beams of several sub-rays: hits[c * sub + j] is sub-ray j of column c along
 /// sub_directions[c * sub + j]; each beam reports its merged peak (beam_divergence.hpp).

@@ -94,26 +94,33 @@ void LidarSimulator::cast_block(int r0, int r1, const std::vector<std::pair<int,
   const int cols = params_.rig.cols();
   scratch.hits.resize(static_cast<std::size_t>(kBlockRows) * static_cast<std::size_t>(cols));
   const Eigen::Vector3f* directions = &directions_world_[static_cast<std::size_t>(r0) * static_cast<std::size_t>(cols)];
+  scratch.tile_orders.resize(span.size());
   for (std::size_t h = 0; h < span.size(); ++h) {
     // Head by head, in tiles of kBlockRows x kTileCols beams: Embree traces consecutive rays
     // as one packet, and a square tile of beams stays together through the BVH better than a
-    // strip of one row (about 15 % faster).
-    scratch.order.resize(static_cast<std::size_t>((r1 - r0) * (span[h].second - span[h].first)));
-    std::uint32_t* order = scratch.order.data();
-    for (int c0 = span[h].first; c0 < span[h].second; c0 += kTileCols) {
-      const int c1 = std::min(span[h].second, c0 + kTileCols);
-      for (int r = r0; r < r1; ++r) {
-        for (int c = c0; c < c1; ++c) *order++ = static_cast<std::uint32_t>((r - r0) * cols + c);
+    // strip of one row (about 15 % faster). The order is the same for every block as tall.
+    TileOrder& tiles = scratch.tile_orders[h];
+    if (tiles.rows != r1 - r0 || tiles.cols != span[h]) {
+      tiles.rows = r1 - r0;
+      tiles.cols = span[h];
+      tiles.order.clear();
+      for (int c0 = span[h].first; c0 < span[h].second; c0 += kTileCols) {
+        for (int r = 0; r < tiles.rows; ++r) {
+          for (int c = c0; c < std::min(span[h].second, c0 + kTileCols); ++c) {
+            tiles.order.push_back(static_cast<std::uint32_t>(r * cols + c));
+          }
+        }
       }
     }
+    const std::vector<std::uint32_t>& order = tiles.order;
     const Eigen::Vector3f origin = heads[h].origin_world.cast<float>();
     const auto near = static_cast<float>(params_.min_range_m);
     const auto far = static_cast<float>(params_.rig.heads[h].max_range_m);
-    scene_->intersect(SceneLayer::kStatic, origin, directions, scratch.order.data(), scratch.order.size(), near, far,
+    scene_->intersect(SceneLayer::kStatic, origin, directions, order.data(), order.size(), near, far,
                       scratch.hits.data());
     // The actors only for tiles inside an actor's footprint, and not hidden behind static hits.
     scratch.actor_order.clear();
-    for (std::size_t t = 0; t < scratch.order.size(); t += static_cast<std::size_t>((r1 - r0) * kTileCols)) {
+    for (std::size_t t = 0; t < order.size(); t += static_cast<std::size_t>((r1 - r0) * kTileCols)) {
       const int c0 = span[h].first + static_cast<int>(t) / (r1 - r0);
       const int c1 = std::min(span[h].second, c0 + kTileCols);
       double nearest = std::numeric_limits<double>::infinity();
@@ -123,12 +130,12 @@ void LidarSimulator::cast_block(int r0, int r1, const std::vector<std::pair<int,
         }
       }
       if (nearest == std::numeric_limits<double>::infinity()) continue;
-      const std::size_t tile_end = std::min(scratch.order.size(), t + static_cast<std::size_t>((r1 - r0) * (c1 - c0)));
+      const std::size_t tile_end = std::min(order.size(), t + static_cast<std::size_t>((r1 - r0) * (c1 - c0)));
       float farthest = 0.0f;  // +inf where nothing static was hit
-      for (std::size_t k = t; k < tile_end; ++k) farthest = std::max(farthest, scratch.hits[scratch.order[k]].distance_m);
+      for (std::size_t k = t; k < tile_end; ++k) farthest = std::max(farthest, scratch.hits[order[k]].distance_m);
       if (static_cast<double>(farthest) < nearest) continue;
-      scratch.actor_order.insert(scratch.actor_order.end(), scratch.order.begin() + static_cast<std::ptrdiff_t>(t),
-                                 scratch.order.begin() + static_cast<std::ptrdiff_t>(tile_end));
+      scratch.actor_order.insert(scratch.actor_order.end(), order.begin() + static_cast<std::ptrdiff_t>(t),
+                                 order.begin() + static_cast<std::ptrdiff_t>(tile_end));
     }
     scene_->intersect(SceneLayer::kActors, origin, directions, scratch.actor_order.data(), scratch.actor_order.size(),
                       near, far, scratch.hits.data());
@@ -252,8 +259,17 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
           const std::size_t row = static_cast<std::size_t>(r) * static_cast<std::size_t>(cols);
           if (pattern_.offsets.size() == 1) {
             const RayHit* hits = scratch.hits.data() + static_cast<std::size_t>(r - r0) * static_cast<std::size_t>(cols);
+            // The row's noise in one batch: two normals per return, in pixel order.
+            std::size_t returns = 0;
+            for (const auto& [c0, c1] : span) {
+              for (int c = c0; c < c1; ++c) returns += std::isfinite(hits[c].distance_m) ? 1 : 0;
+            }
+            scratch.normals.resize(2 * returns);
+            rng.normals(scratch.normals.data(), scratch.normals.size());
+            const double* normals = scratch.normals.data();
             for (std::size_t h = 0; h < span.size(); ++h) {
-              detail::shade_beams(shading, heads[h], row, span[h].first, span[h].second, hits, rng, scratch.pixels.data());
+              normals = detail::shade_beams(shading, heads[h], row, span[h].first, span[h].second, hits, normals,
+                                            scratch.pixels.data());
             }
             continue;
           }

@@ -46,10 +46,11 @@ MeasurementModel::Reading MeasurementModel::from_beat_frequencies(const BeatFreq
           params_.wavelength_m / 4.0 * (f.down_hz - f.up_hz)};                              // Eq. 4
 }
 
-MeasurementModel::Reading MeasurementModel::measure_beat_frequency(double range_m, double v_mps, core::Rng& rng) const {
+MeasurementModel::Reading MeasurementModel::measure_beat_frequency(double range_m, double v_mps,
+                                                                  const double* normals) const {
   BeatFrequencies f = beat_frequencies(range_m, v_mps);
-  const double jitter_up = params_.beat_frequency_sigma_hz * rng.normal();
-  const double jitter_down = params_.beat_frequency_sigma_hz * rng.normal();
+  const double jitter_up = params_.beat_frequency_sigma_hz * normals[0];
+  const double jitter_down = params_.beat_frequency_sigma_hz * normals[1];
   // The peak of each ramp's spectrum lands in the nearest FFT bin of width 2 / T.
   const double bin = fft_bin_hz();
   f.up_hz = std::round((f.up_hz + jitter_up) / bin) * bin;

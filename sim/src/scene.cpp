@@ -302,12 +302,24 @@ void Scene::set_time(double t_s) {
 void Scene::intersect(SceneLayer layer, const Eigen::Vector3f& origin, const Eigen::Vector3f* directions,
                       const std::uint32_t* order, std::size_t count, float near_m, float far_m, RayHit* hits) const {
   const bool actors = layer == SceneLayer::kActors;
-  if (actors && actors_.empty()) return;
+  if (count == 0 || (actors && actors_.empty())) return;
   // The static world is traced straight (no instance level, and its BVH is never rebuilt); the
   // actors through their top level, rebuilt each frame.
   RTCScene scene = actors ? impl_->top : impl_->static_scene;
   constexpr std::size_t kChunk = 256;
   RTCRayHit rays[kChunk];
+  // What every ray of the call shares; Embree writes only tfar and the hit.
+  for (std::size_t k = 0; k < std::min(kChunk, count); ++k) {
+    RTCRay& ray = rays[k].ray;
+    ray.org_x = origin.x();
+    ray.org_y = origin.y();
+    ray.org_z = origin.z();
+    ray.tnear = near_m;
+    ray.time = 0.0f;
+    ray.mask = 0xFFFFFFFFu;
+    ray.id = static_cast<unsigned>(k);
+    ray.flags = 0;
+  }
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -316,19 +328,11 @@ void Scene::intersect(SceneLayer layer, const Eigen::Vector3f& origin, const Eig
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t i = order ? order[begin + k] : begin + k;
       RTCRayHit& rh = rays[k];
-      rh.ray.org_x = origin.x();
-      rh.ray.org_y = origin.y();
-      rh.ray.org_z = origin.z();
       rh.ray.dir_x = directions[i].x();
       rh.ray.dir_y = directions[i].y();
       rh.ray.dir_z = directions[i].z();
-      rh.ray.tnear = near_m;
       // Actors: only what is nearer than the hit so far (+inf: none).
       rh.ray.tfar = actors ? std::min(far_m, hits[i].distance_m) : far_m;
-      rh.ray.time = 0.0f;
-      rh.ray.mask = 0xFFFFFFFFu;
-      rh.ray.id = static_cast<unsigned>(k);
-      rh.ray.flags = 0;
       rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
       rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     }

@@ -69,11 +69,18 @@ class LidarSimulator {
   SubRayPattern pattern_;
   std::vector<Eigen::Vector3f> sub_directions_rig_;  // sub-rays of pixel i at [i * sub, (i + 1) * sub)
   std::vector<std::pair<std::uint32_t, std::size_t>> actor_ids_;  // (actor id, index into actors()), sorted
+  // The order a block's beams in one head's columns are cast in, as indices into the block.
+  struct TileOrder {
+    int rows = 0;
+    std::pair<int, int> cols{0, 0};
+    std::vector<std::uint32_t> order;
+  };
   // What each thread reuses from frame to frame.
   struct ThreadScratch {
     std::vector<RayHit> hits;
-    std::vector<std::uint32_t> order;        // the order a block's beams are cast in
-    std::vector<std::uint32_t> actor_order;  // those of them traced against the actors
+    std::vector<TileOrder> tile_orders;      // per head
+    std::vector<std::uint32_t> actor_order;  // the beams traced against the actors
+    std::vector<double> normals;  // a row's measurement noise
     std::vector<Eigen::Vector3f> sub_dirs;
     std::vector<SubReturn> returns;
     std::vector<int> pixels;  // per actor index
