@@ -47,6 +47,7 @@ struct Scene::Impl {
   RTCDevice device = nullptr;
   RTCScene top = nullptr;
   RTCScene static_scene = nullptr;
+  bool packets16 = false;  // the device traces packets of 16 rays natively
   std::string last_error;
   // Static world: triangles in world coordinates, merged.
   std::vector<float> static_vertices;
@@ -75,6 +76,7 @@ Scene::Scene() : impl_(std::make_unique<Impl>()) {
   impl_->device = rtcNewDevice("threads=1");
   if (impl_->device == nullptr) throw std::runtime_error("Embree: cannot create a device");
   rtcSetDeviceErrorFunction(impl_->device, embree_error, &impl_->last_error);
+  impl_->packets16 = rtcGetDeviceProperty(impl_->device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) == 1;
 }
 
 Scene::~Scene() {
@@ -299,56 +301,124 @@ void Scene::set_time(double t_s) {
   }
 }
 
+namespace {
+
+// One layer's query: rays from one origin, in a given order, as in Scene::intersect.
+struct RayQuery {
+  RTCScene scene;
+  bool actors;
+  const Eigen::Vector3f& origin;
+  const Eigen::Vector3f* directions;
+  const std::uint32_t* order;
+  std::size_t count;
+  float near_m, far_m;
+  RayHit* hits;
+
+  std::size_t index(std::size_t k) const { return order ? order[k] : k; }
+  // Actors: only what is nearer than the hit so far (+inf: none).
+  float tfar(std::size_t i) const { return actors ? std::min(far_m, hits[i].distance_m) : far_m; }
+  void store(std::size_t i, unsigned geom, unsigned inst, float t, unsigned prim, float nx, float ny, float nz) const {
+    RayHit& out = hits[i];
+    if (geom == RTC_INVALID_GEOMETRY_ID) {
+      if (!actors) out.distance_m = std::numeric_limits<float>::infinity();
+      return;
+    }
+    out.distance_m = t;
+    out.slot = actors ? inst : 0;
+    out.primitive = prim;
+    out.normal_object = Eigen::Vector3f(nx, ny, nz);
+  }
+};
+
+// Packets of 16 consecutive rays, for a device that traces them natively (AVX-512): about 5 %
+// faster than streams here, which convert to the same packets.
+void intersect_packets(const RayQuery& q, RTCIntersectContext& context) {
+  alignas(64) RTCRayHit16 rh;
+  alignas(64) int valid[16];
+  // What every ray of the call shares; Embree writes only tfar and the hit.
+  for (int k = 0; k < 16; ++k) {
+    rh.ray.org_x[k] = q.origin.x();
+    rh.ray.org_y[k] = q.origin.y();
+    rh.ray.org_z[k] = q.origin.z();
+    rh.ray.tnear[k] = q.near_m;
+    rh.ray.time[k] = 0.0f;
+    rh.ray.mask[k] = 0xFFFFFFFFu;
+    rh.ray.id[k] = static_cast<unsigned>(k);
+    rh.ray.flags[k] = 0;
+  }
+  for (std::size_t begin = 0; begin < q.count; begin += 16) {
+    const std::size_t n = std::min<std::size_t>(16, q.count - begin);
+    for (std::size_t k = 0; k < 16; ++k) {
+      valid[k] = k < n ? -1 : 0;
+      const std::size_t i = q.index(begin + std::min(k, n - 1));  // idle lanes repeat the last ray
+      rh.ray.dir_x[k] = q.directions[i].x();
+      rh.ray.dir_y[k] = q.directions[i].y();
+      rh.ray.dir_z[k] = q.directions[i].z();
+      rh.ray.tfar[k] = q.tfar(i);
+      rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect16(valid, q.scene, &context, &rh);
+    for (std::size_t k = 0; k < n; ++k) {
+      q.store(q.index(begin + k), rh.hit.geomID[k], rh.hit.instID[0][k], rh.ray.tfar[k], rh.hit.primID[k],
+              rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]);
+    }
+  }
+}
+
+// Coherent ray streams: Embree cuts them into packets of the CPU's width.
+void intersect_stream(const RayQuery& q, RTCIntersectContext& context) {
+  constexpr std::size_t kChunk = 256;
+  RTCRayHit rays[kChunk];
+  for (std::size_t k = 0; k < std::min(kChunk, q.count); ++k) {
+    RTCRay& ray = rays[k].ray;
+    ray.org_x = q.origin.x();
+    ray.org_y = q.origin.y();
+    ray.org_z = q.origin.z();
+    ray.tnear = q.near_m;
+    ray.time = 0.0f;
+    ray.mask = 0xFFFFFFFFu;
+    ray.id = static_cast<unsigned>(k);
+    ray.flags = 0;
+  }
+  for (std::size_t begin = 0; begin < q.count; begin += kChunk) {
+    const std::size_t n = std::min(kChunk, q.count - begin);
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = q.index(begin + k);
+      RTCRayHit& rh = rays[k];
+      rh.ray.dir_x = q.directions[i].x();
+      rh.ray.dir_y = q.directions[i].y();
+      rh.ray.dir_z = q.directions[i].z();
+      rh.ray.tfar = q.tfar(i);
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect1M(q.scene, &context, rays, static_cast<unsigned>(n), sizeof(RTCRayHit));
+    for (std::size_t k = 0; k < n; ++k) {
+      const RTCRayHit& rh = rays[k];
+      q.store(q.index(begin + k), rh.hit.geomID, rh.hit.instID[0], rh.ray.tfar, rh.hit.primID, rh.hit.Ng_x,
+              rh.hit.Ng_y, rh.hit.Ng_z);
+    }
+  }
+}
+
+}  // namespace
+
 void Scene::intersect(SceneLayer layer, const Eigen::Vector3f& origin, const Eigen::Vector3f* directions,
                       const std::uint32_t* order, std::size_t count, float near_m, float far_m, RayHit* hits) const {
   const bool actors = layer == SceneLayer::kActors;
   if (count == 0 || (actors && actors_.empty())) return;
   // The static world is traced straight (no instance level, and its BVH is never rebuilt); the
   // actors through their top level, rebuilt each frame.
-  RTCScene scene = actors ? impl_->top : impl_->static_scene;
-  constexpr std::size_t kChunk = 256;
-  RTCRayHit rays[kChunk];
-  // What every ray of the call shares; Embree writes only tfar and the hit.
-  for (std::size_t k = 0; k < std::min(kChunk, count); ++k) {
-    RTCRay& ray = rays[k].ray;
-    ray.org_x = origin.x();
-    ray.org_y = origin.y();
-    ray.org_z = origin.z();
-    ray.tnear = near_m;
-    ray.time = 0.0f;
-    ray.mask = 0xFFFFFFFFu;
-    ray.id = static_cast<unsigned>(k);
-    ray.flags = 0;
-  }
+  const RayQuery query{actors ? impl_->top : impl_->static_scene, actors, origin, directions, order, count, near_m,
+                       far_m, hits};
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  for (std::size_t begin = 0; begin < count; begin += kChunk) {
-    const std::size_t n = std::min(kChunk, count - begin);
-    for (std::size_t k = 0; k < n; ++k) {
-      const std::size_t i = order ? order[begin + k] : begin + k;
-      RTCRayHit& rh = rays[k];
-      rh.ray.dir_x = directions[i].x();
-      rh.ray.dir_y = directions[i].y();
-      rh.ray.dir_z = directions[i].z();
-      // Actors: only what is nearer than the hit so far (+inf: none).
-      rh.ray.tfar = actors ? std::min(far_m, hits[i].distance_m) : far_m;
-      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    }
-    rtcIntersect1M(scene, &context, rays, static_cast<unsigned>(n), sizeof(RTCRayHit));
-    for (std::size_t k = 0; k < n; ++k) {
-      const RTCRayHit& rh = rays[k];
-      RayHit& out = hits[order ? order[begin + k] : begin + k];
-      if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-        if (!actors) out.distance_m = std::numeric_limits<float>::infinity();
-        continue;
-      }
-      out.distance_m = rh.ray.tfar;
-      out.slot = actors ? rh.hit.instID[0] : 0;
-      out.primitive = rh.hit.primID;
-      out.normal_object = Eigen::Vector3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-    }
+  if (impl_->packets16) {
+    intersect_packets(query, context);
+  } else {
+    intersect_stream(query, context);
   }
 }
 
