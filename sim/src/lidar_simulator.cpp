@@ -3,6 +3,9 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
+#include <exception>
+#include <thread>
 #include <cmath>
 #include <limits>
 
@@ -87,10 +90,8 @@ double LidarSimulator::beam_time_offset_s(std::size_t head, int local_col) const
   return fraction / params_.rig.heads[head].rate_hz;
 }
 
-void LidarSimulator::cast_block(int r0, int r1, const std::vector<std::pair<int, int>>& span,
-                                const std::vector<detail::HeadState>& heads,
-                                const std::vector<std::vector<ActorFootprint>>& footprints,
-                                ThreadScratch& scratch) const {
+void LidarSimulator::cast_static_block(int r0, int r1, const std::vector<std::pair<int, int>>& span,
+                                       const std::vector<detail::HeadState>& heads, ThreadScratch& scratch) const {
   const int cols = params_.rig.cols();
   scratch.hits.resize(static_cast<std::size_t>(kBlockRows) * static_cast<std::size_t>(cols));
   const Eigen::Vector3f* directions = &directions_world_[static_cast<std::size_t>(r0) * static_cast<std::size_t>(cols)];
@@ -118,6 +119,17 @@ void LidarSimulator::cast_block(int r0, int r1, const std::vector<std::pair<int,
     const auto far = static_cast<float>(params_.rig.heads[h].max_range_m);
     scene_->intersect(SceneLayer::kStatic, origin, directions, order.data(), order.size(), near, far,
                       scratch.hits.data());
+  }
+}
+
+void LidarSimulator::cast_actor_block(int r0, int r1, const std::vector<std::pair<int, int>>& span,
+                                      const std::vector<detail::HeadState>& heads,
+                                      const std::vector<std::vector<ActorFootprint>>& footprints,
+                                      ThreadScratch& scratch) const {
+  const int cols = params_.rig.cols();
+  const Eigen::Vector3f* directions = &directions_world_[static_cast<std::size_t>(r0) * static_cast<std::size_t>(cols)];
+  for (std::size_t h = 0; h < span.size(); ++h) {
+    const std::vector<std::uint32_t>& order = scratch.tile_orders[h].order;  // as cast_static_block left it
     // The actors only for tiles inside an actor's footprint, and not hidden behind static hits.
     scratch.actor_order.clear();
     for (std::size_t t = 0; t < order.size(); t += static_cast<std::size_t>((r1 - r0) * kTileCols)) {
@@ -137,8 +149,9 @@ void LidarSimulator::cast_block(int r0, int r1, const std::vector<std::pair<int,
       scratch.actor_order.insert(scratch.actor_order.end(), order.begin() + static_cast<std::ptrdiff_t>(t),
                                  order.begin() + static_cast<std::ptrdiff_t>(tile_end));
     }
-    scene_->intersect(SceneLayer::kActors, origin, directions, scratch.actor_order.data(), scratch.actor_order.size(),
-                      near, far, scratch.hits.data());
+    scene_->intersect(SceneLayer::kActors, heads[h].origin_world.cast<float>(), directions, scratch.actor_order.data(),
+                      scratch.actor_order.size(), static_cast<float>(params_.min_range_m),
+                      static_cast<float>(params_.rig.heads[h].max_range_m), scratch.hits.data());
   }
 }
 
@@ -159,6 +172,27 @@ void LidarSimulator::cast_sub_rays(int r, const Eigen::Matrix3f& R_wr, const std
       scene_->intersect(layer, heads[h].origin_world.cast<float>(), &scratch.sub_dirs[c0 * sub], nullptr, count * sub,
                         static_cast<float>(params_.min_range_m), static_cast<float>(params_.rig.heads[h].max_range_m),
                         &scratch.hits[c0 * sub]);
+    }
+  }
+}
+
+void LidarSimulator::prepare_rows(int r0, int r1, const std::vector<std::pair<int, int>>& span,
+                                  const Eigen::Matrix3f* R_world_rig, core::Scan& scan) {
+  if (R_world_rig == nullptr && !params_.motion_distortion) return;
+  for (int r = r0; r < r1; ++r) {
+    for (std::size_t h = 0; h < span.size(); ++h) {
+      for (int c = span[h].first; c < span[h].second; ++c) {
+        const std::size_t i = scan.index(r, c);
+        if (R_world_rig != nullptr) {
+          const float* m = R_world_rig->data();  // column-major
+          const float x = directions_rig_[i].x(), y = directions_rig_[i].y(), z = directions_rig_[i].z();
+          directions_world_[i] = Eigen::Vector3f(m[0] * x + m[3] * y + m[6] * z, m[1] * x + m[4] * y + m[7] * z,
+                                                 m[2] * x + m[5] * y + m[8] * z);
+        }
+        if (params_.motion_distortion) {
+          scan.time_offset_s[i] = static_cast<float>(beam_time_offset_s(h, c - head_infos_[h].col_begin));
+        }
+      }
     }
   }
 }
@@ -204,55 +238,54 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
     const double t_slice = params_.motion_distortion
                                ? t_s + beam_time_offset_s(0, (k * head_infos_[0].cols() + head_infos_[0].cols() / 2) / slices)
                                : t_s;
-    scene_->set_time(t_slice);
     const RigPose pose = rig_pose(ego_->state(t_slice), params_.rig);
     const Eigen::Matrix3d R_wr = pose.T_world_rig.linear();
     const Eigen::Matrix3f R_wr_f = R_wr.cast<float>();
     // World beam directions: rotations keep unit vectors unit. A rig that did not turn since
     // the last frame keeps last frame's directions (all columns are one slice then).
-    if (slices > 1 || !(R_wr_f == last_rotation_)) {
-      const float* m = R_wr_f.data();  // column-major
-      for (int r = 0; r < rows; ++r) {
-        for (std::size_t h = 0; h < span.size(); ++h) {
-          for (int c = span[h].first; c < span[h].second; ++c) {
-            const std::size_t i = scan.index(r, c);
-            const float x = directions_rig_[i].x(), y = directions_rig_[i].y(), z = directions_rig_[i].z();
-            directions_world_[i] = Eigen::Vector3f(m[0] * x + m[3] * y + m[6] * z, m[1] * x + m[4] * y + m[7] * z,
-                                                   m[2] * x + m[5] * y + m[8] * z);
-          }
-        }
-      }
-      last_rotation_ = slices > 1 ? Eigen::Matrix3f::Constant(std::numeric_limits<float>::quiet_NaN()) : R_wr_f;
-    }
-
-    const detail::ShadingContext shading{*scene_, measurement_, directions_world_.data(), directions_rig_.data(),
-                                         R_wr, moving_threshold_sq, detail::PixelArrays(scan, gt)};
+    const bool rotate = slices > 1 || !(R_wr_f == last_rotation_);
+    last_rotation_ = slices > 1 ? Eigen::Matrix3f::Constant(std::numeric_limits<float>::quiet_NaN()) : R_wr_f;
     std::vector<detail::HeadState> heads(span.size());
-    std::vector<std::vector<ActorFootprint>> footprints(span.size());
     for (std::size_t h = 0; h < span.size(); ++h) {
       heads[h] = {pose.origin_world[h], pose.origin_velocity_world[h], params_.rig.heads[h].T_rig_head.translation()};
-      actor_footprints(scene_->actor_bounds(), params_.rig.heads[h], head_infos_[h].col_begin,
-                               pose.T_world_rig * params_.rig.heads[h].T_rig_head, kCullMarginRad, footprints[h]);
     }
-    if (params_.motion_distortion) {
-      for (int r = 0; r < rows; ++r) {
-        for (std::size_t h = 0; h < span.size(); ++h) {
-          for (int c = span[h].first; c < span[h].second; ++c) {
-            scan.time_offset_s[scan.index(r, c)] = static_cast<float>(beam_time_offset_s(h, c - head_infos_[h].col_begin));
-          }
-        }
-      }
-    }
+    const detail::ShadingContext shading{*scene_, measurement_, directions_world_.data(), directions_rig_.data(),
+                                         R_wr, moving_threshold_sq, detail::PixelArrays(scan, gt)};
+    std::vector<std::vector<ActorFootprint>> footprints(span.size());
+    enum : int { kMoving, kReady, kFailed };
+    std::atomic<int> scene_state{kMoving};
+    std::exception_ptr failure;
 
 #pragma omp parallel num_threads(threads)
     {
+      // One thread moves the actors to the slice's instant while the others start on the static
+      // world, which never moves: on two threads the update costs no time of its own.
+#pragma omp single nowait
+      {
+        try {
+          scene_->set_time(t_slice);
+          for (std::size_t h = 0; h < span.size(); ++h) {
+            actor_footprints(scene_->actor_bounds(), params_.rig.heads[h], head_infos_[h].col_begin,
+                             pose.T_world_rig * params_.rig.heads[h].T_rig_head, kCullMarginRad, footprints[h]);
+          }
+          scene_state.store(kReady, std::memory_order_release);
+        } catch (...) {
+          failure = std::current_exception();
+          scene_state.store(kFailed, std::memory_order_release);
+        }
+      }
       ThreadScratch& scratch = scratch_[static_cast<std::size_t>(omp_get_thread_num())];
       // Dynamic blocks of rows: sky rows cost little, ground rows a lot. Each (row, slice) draws
       // from its own seed, so the result does not depend on which thread takes it.
 #pragma omp for schedule(dynamic, 1)
       for (int r0 = 0; r0 < rows; r0 += kBlockRows) {
         const int r1 = std::min(rows, r0 + kBlockRows);
-        if (pattern_.offsets.size() == 1) cast_block(r0, r1, span, heads, footprints, scratch);
+        prepare_rows(r0, r1, span, rotate ? &R_wr_f : nullptr, scan);
+        if (pattern_.offsets.size() == 1) cast_static_block(r0, r1, span, heads, scratch);
+        int state = kMoving;
+        while ((state = scene_state.load(std::memory_order_acquire)) == kMoving) std::this_thread::yield();
+        if (state == kFailed) continue;
+        if (pattern_.offsets.size() == 1) cast_actor_block(r0, r1, span, heads, footprints, scratch);
         for (int r = r0; r < r1; ++r) {
           core::Rng rng(core::mix_seed(frame_seed, static_cast<std::uint64_t>(r) * static_cast<std::uint64_t>(slices) +
                                                        static_cast<std::uint64_t>(k)));
@@ -282,6 +315,7 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
         }
       }
     }
+    if (failure) std::rethrow_exception(failure);
   }
 
   // Frame truth at the frame's stamp (with distortion, pixels carry their offsets from it).

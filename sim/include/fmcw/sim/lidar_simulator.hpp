@@ -88,10 +88,17 @@ class LidarSimulator {
   std::vector<ThreadScratch> scratch_;
 
   int slice_count() const;
-  // Casts rows [r0, r1) (at most kBlockRows) into scratch.hits, row-major by block row.
-  void cast_block(int r0, int r1, const std::vector<std::pair<int, int>>& span,
-                  const std::vector<detail::HeadState>& heads,
-                  const std::vector<std::vector<ActorFootprint>>& footprints, ThreadScratch& scratch) const;
+  // Rows [r0, r1) of slice columns span: world directions (when R_world_rig is given) and beam
+  // time offsets (with motion distortion).
+  void prepare_rows(int r0, int r1, const std::vector<std::pair<int, int>>& span, const Eigen::Matrix3f* R_world_rig,
+                    core::Scan& scan);
+  // Casts rows [r0, r1) (at most kBlockRows) into scratch.hits, row-major by block row: the
+  // static world, then the actors (after the scene has moved).
+  void cast_static_block(int r0, int r1, const std::vector<std::pair<int, int>>& span,
+                         const std::vector<detail::HeadState>& heads, ThreadScratch& scratch) const;
+  void cast_actor_block(int r0, int r1, const std::vector<std::pair<int, int>>& span,
+                        const std::vector<detail::HeadState>& heads,
+                        const std::vector<std::vector<ActorFootprint>>& footprints, ThreadScratch& scratch) const;
   // Casts the sub-rays of row r into scratch.hits, along scratch.sub_dirs (world).
   void cast_sub_rays(int r, const Eigen::Matrix3f& R_wr, const std::vector<std::pair<int, int>>& span,
                      const std::vector<detail::HeadState>& heads, ThreadScratch& scratch) const;
