@@ -156,7 +156,9 @@ void LidarSimulator::cast_actor_block(int r0, int r1, const std::vector<std::pai
 }
 
 void LidarSimulator::cast_sub_rays(int r, const Eigen::Matrix3f& R_wr, const std::vector<std::pair<int, int>>& span,
-                                   const std::vector<detail::HeadState>& heads, ThreadScratch& scratch) const {
+                                   const std::vector<detail::HeadState>& heads,
+                                   const std::vector<std::vector<ActorFootprint>>& footprints,
+                                   ThreadScratch& scratch) const {
   // The sub-rays of one beam are neighbours already: a row at a time, in beam order.
   const std::size_t sub = pattern_.offsets.size();
   const std::size_t row = static_cast<std::size_t>(r) * static_cast<std::size_t>(params_.rig.cols());
@@ -168,11 +170,29 @@ void LidarSimulator::cast_sub_rays(int r, const Eigen::Matrix3f& R_wr, const std
     for (std::size_t c = c0; c < c0 + count; ++c) {
       for (std::size_t j = 0; j < sub; ++j) scratch.sub_dirs[c * sub + j] = R_wr * sub_directions_rig_[(row + c) * sub + j];
     }
-    for (const SceneLayer layer : {SceneLayer::kStatic, SceneLayer::kActors}) {
-      scene_->intersect(layer, heads[h].origin_world.cast<float>(), &scratch.sub_dirs[c0 * sub], nullptr, count * sub,
-                        static_cast<float>(params_.min_range_m), static_cast<float>(params_.rig.heads[h].max_range_m),
-                        &scratch.hits[c0 * sub]);
+    const Eigen::Vector3f origin = heads[h].origin_world.cast<float>();
+    const auto near = static_cast<float>(params_.min_range_m);
+    const auto far = static_cast<float>(params_.rig.heads[h].max_range_m);
+    scene_->intersect(SceneLayer::kStatic, origin, &scratch.sub_dirs[c0 * sub], nullptr, count * sub, near, far,
+                      &scratch.hits[c0 * sub]);
+    // The actors only for beams inside an actor's footprint (widened by the cone, see
+    // simulate()) whose sub-rays are not all stopped nearer by the static world.
+    scratch.actor_order.clear();
+    for (std::size_t c = c0; c < c0 + count; ++c) {
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const ActorFootprint& fp : footprints[h]) {
+        if (fp.row_begin <= r && r < fp.row_end && fp.col_begin <= static_cast<int>(c) && static_cast<int>(c) < fp.col_end) {
+          nearest = std::min(nearest, fp.nearest_m);
+        }
+      }
+      if (nearest == std::numeric_limits<double>::infinity()) continue;
+      float farthest = 0.0f;  // +inf where nothing static was hit
+      for (std::size_t j = 0; j < sub; ++j) farthest = std::max(farthest, scratch.hits[c * sub + j].distance_m);
+      if (static_cast<double>(farthest) < nearest) continue;
+      for (std::size_t j = 0; j < sub; ++j) scratch.actor_order.push_back(static_cast<std::uint32_t>(c * sub + j));
     }
+    scene_->intersect(SceneLayer::kActors, origin, scratch.sub_dirs.data(), scratch.actor_order.data(),
+                      scratch.actor_order.size(), near, far, scratch.hits.data());
   }
 }
 
@@ -265,8 +285,10 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
         try {
           scene_->set_time(t_slice);
           for (std::size_t h = 0; h < span.size(); ++h) {
+            // Sub-rays leave their beam's axis by up to half the cone: a generous margin.
+            const double margin = kCullMarginRad + (pattern_.offsets.size() > 1 ? params_.divergence.divergence_rad : 0.0);
             actor_footprints(scene_->actor_bounds(), params_.rig.heads[h], head_infos_[h].col_begin,
-                             pose.T_world_rig * params_.rig.heads[h].T_rig_head, kCullMarginRad, footprints[h]);
+                             pose.T_world_rig * params_.rig.heads[h].T_rig_head, margin, footprints[h]);
           }
           scene_state.store(kReady, std::memory_order_release);
         } catch (...) {
@@ -306,7 +328,7 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
             }
             continue;
           }
-          cast_sub_rays(r, R_wr_f, span, heads, scratch);
+          cast_sub_rays(r, R_wr_f, span, heads, footprints, scratch);
           const detail::SubRayShading sub_rays{pattern_, params_.divergence, scratch.sub_dirs.data(), actor_ids_};
           for (std::size_t h = 0; h < span.size(); ++h) {
             detail::shade_sub_ray_beams(shading, sub_rays, heads[h], row, span[h].first, span[h].second,

@@ -101,7 +101,8 @@ class LidarSimulator {
                         const std::vector<std::vector<ActorFootprint>>& footprints, ThreadScratch& scratch) const;
   // Casts the sub-rays of row r into scratch.hits, along scratch.sub_dirs (world).
   void cast_sub_rays(int r, const Eigen::Matrix3f& R_wr, const std::vector<std::pair<int, int>>& span,
-                     const std::vector<detail::HeadState>& heads, ThreadScratch& scratch) const;
+                     const std::vector<detail::HeadState>& heads,
+                     const std::vector<std::vector<ActorFootprint>>& footprints, ThreadScratch& scratch) const;
 };
 
 }  // namespace fmcw::sim
