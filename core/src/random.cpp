@@ -69,8 +69,22 @@ const ZigguratTables kZiggurat;
 
 }  // namespace detail
 
-double Rng::normal_slow(std::int64_t hz, int iz) {
+void Rng::normals(double* out, std::size_t n) {
+  std::uint64_t s0 = s_[0], s1 = s_[1], s2 = s_[2], s3 = s_[3];
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::uint64_t bits = step(s0, s1, s2, s3);
+    if (ziggurat_fast(bits, out[k])) continue;
+    s_[0] = s0, s_[1] = s1, s_[2] = s2, s_[3] = s3;
+    out[k] = normal_slow(bits);
+    s0 = s_[0], s1 = s_[1], s2 = s_[2], s3 = s_[3];
+  }
+  s_[0] = s0, s_[1] = s1, s_[2] = s2, s_[3] = s3;
+}
+
+double Rng::normal_slow(std::uint64_t bits) {
   const detail::ZigguratTables& t = detail::kZiggurat;
+  int iz = static_cast<int>(bits & 127u);
+  auto hz = static_cast<std::int64_t>(static_cast<std::int32_t>(bits >> 32));
   for (;;) {
     const double x = static_cast<double>(hz) * t.w[iz];
     if (iz == 0) {
@@ -89,11 +103,11 @@ double Rng::normal_slow(std::int64_t hz, int iz) {
     }
     // Wedge between the layer's rectangle and the curve: accept under the density.
     if (t.f[iz] + uniform() * (t.f[iz - 1] - t.f[iz]) < std::exp(-0.5 * x * x)) return x;
-    const std::uint64_t bits = next_u64();
-    iz = static_cast<int>(bits & 127u);
-    hz = static_cast<std::int64_t>(static_cast<std::int32_t>(bits >> 32));
-    const std::uint64_t mag = static_cast<std::uint64_t>(hz < 0 ? -hz : hz);
-    if (mag < t.k[iz]) return static_cast<double>(hz) * t.w[iz];
+    const std::uint64_t next = next_u64();
+    double y;
+    if (ziggurat_fast(next, y)) return y;
+    iz = static_cast<int>(next & 127u);
+    hz = static_cast<std::int64_t>(static_cast<std::int32_t>(next >> 32));
   }
 }
 

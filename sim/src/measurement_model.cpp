@@ -46,26 +46,16 @@ MeasurementModel::Reading MeasurementModel::from_beat_frequencies(const BeatFreq
           params_.wavelength_m / 4.0 * (f.down_hz - f.up_hz)};                              // Eq. 4
 }
 
-MeasurementModel::Reading MeasurementModel::measure(double range_m, double v_mps, core::Rng& rng) const {
-  if (params_.model == MeasurementParams::Model::kGaussian) {
-    const double dr = params_.range_sigma_m * rng.normal();
-    const double dv = params_.velocity_sigma_mps * rng.normal();
-    return {range_m + dr, v_mps + dv};
-  }
+MeasurementModel::Reading MeasurementModel::measure_beat_frequency(double range_m, double v_mps,
+                                                                  const double* normals) const {
   BeatFrequencies f = beat_frequencies(range_m, v_mps);
-  const double jitter_up = params_.beat_frequency_sigma_hz * rng.normal();
-  const double jitter_down = params_.beat_frequency_sigma_hz * rng.normal();
+  const double jitter_up = params_.beat_frequency_sigma_hz * normals[0];
+  const double jitter_down = params_.beat_frequency_sigma_hz * normals[1];
   // The peak of each ramp's spectrum lands in the nearest FFT bin of width 2 / T.
   const double bin = fft_bin_hz();
   f.up_hz = std::round((f.up_hz + jitter_up) / bin) * bin;
   f.down_hz = std::round((f.down_hz + jitter_down) / bin) * bin;
   return from_beat_frequencies(f);
-}
-
-float return_intensity(float reflectivity, double cos_incidence, double range_m) {
-  constexpr double kReferenceRange = 10.0;
-  const double falloff = range_m > kReferenceRange ? (kReferenceRange * kReferenceRange) / (range_m * range_m) : 1.0;
-  return static_cast<float>(reflectivity * std::abs(cos_incidence) * falloff);
 }
 
 }  // namespace fmcw::sim

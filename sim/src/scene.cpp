@@ -2,6 +2,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -46,11 +47,11 @@ struct Scene::Impl {
   RTCDevice device = nullptr;
   RTCScene top = nullptr;
   RTCScene static_scene = nullptr;
+  bool packets16 = false;  // the device traces packets of 16 rays natively
   std::string last_error;
   // Static world: triangles in world coordinates, merged.
   std::vector<float> static_vertices;
   std::vector<std::uint32_t> static_indices;
-  std::vector<Eigen::Vector3f> static_normals;  // unit, per static triangle
   // One Embree scene per asset part with triangles, shared between actors of the same asset.
   std::map<std::pair<const MeshAsset*, int>, RTCScene> part_scenes;
   // Instance slots: 0 = static world, then one per (actor, part with triangles).
@@ -58,12 +59,13 @@ struct Scene::Impl {
     int actor = -1;
     int part = -1;
     RTCGeometry instance = nullptr;
+    Eigen::AlignedBox3d bounds_part;  // of the part's vertices, part frame
   };
   std::vector<Slot> slots;
-  // Per actor: per-part motion at the current time.
+  // Per actor: per-part motion at the current time, and each part's slot (0: no triangles).
   std::vector<std::vector<PartMotion>> part_motion;
-  std::vector<std::vector<Eigen::Matrix<double, 3, 4>>> velocity_field;  // v(p) = K [p; 1]
-  std::vector<std::vector<Eigen::Matrix3d>> normal_matrix;               // inverse transpose of M's 3x3
+  std::vector<std::vector<std::uint32_t>> part_slot;
+  std::vector<Eigen::AlignedBox3d> actor_box;  // per actor, world, at the current time
 
   void check(const char* what) const {
     if (!last_error.empty()) throw std::runtime_error(std::string(what) + ": " + last_error);
@@ -74,6 +76,7 @@ Scene::Scene() : impl_(std::make_unique<Impl>()) {
   impl_->device = rtcNewDevice("threads=1");
   if (impl_->device == nullptr) throw std::runtime_error("Embree: cannot create a device");
   rtcSetDeviceErrorFunction(impl_->device, embree_error, &impl_->last_error);
+  impl_->packets16 = rtcGetDeviceProperty(impl_->device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) == 1;
 }
 
 Scene::~Scene() {
@@ -130,10 +133,11 @@ void Scene::build() {
   Impl& im = *impl_;
   im.top = rtcNewScene(im.device);
   // The top level holds one instance per actor part (about a hundred): rebuilding it at
-  // medium quality every frame costs little and makes every ray's first traversal cheaper.
+  // medium quality every frame costs little and makes every ray's traversal cheaper.
   rtcSetSceneBuildQuality(im.top, RTC_BUILD_QUALITY_MEDIUM);
 
-  // Slot 0: the static world, one high-quality BVH, instanced once with the identity.
+  // Slot 0: the static world, one high-quality BVH that is never rebuilt. Rays traverse it
+  // directly, not through an instance (see intersect()).
   im.static_scene = rtcNewScene(im.device);
   rtcSetSceneBuildQuality(im.static_scene, RTC_BUILD_QUALITY_HIGH);
   for (std::size_t t = 0; t + 2 < im.static_indices.size(); t += 3) {
@@ -142,7 +146,7 @@ void Scene::build() {
       return Eigen::Vector3f(im.static_vertices[3 * v], im.static_vertices[3 * v + 1], im.static_vertices[3 * v + 2]);
     };
     const Eigen::Vector3f n = (vertex(1) - vertex(0)).cross(vertex(2) - vertex(0));
-    im.static_normals.push_back(n.norm() > 0.0f ? n.normalized() : Eigen::Vector3f::UnitZ());
+    static_normals_.push_back(n.norm() > 0.0f ? n.normalized() : Eigen::Vector3f::UnitZ());
   }
   if (!im.static_indices.empty()) {
     RTCGeometry geom = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -159,26 +163,17 @@ void Scene::build() {
   }
   rtcCommitScene(im.static_scene);
   im.check("static world BVH");
-  {
-    RTCGeometry inst = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_INSTANCE);
-    rtcSetGeometryInstancedScene(inst, im.static_scene);
-    const float identity[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
-    rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, identity);
-    rtcCommitGeometry(inst);
-    rtcAttachGeometryByID(im.top, inst, 0);
-    im.slots.push_back({-1, -1, inst});
-  }
+  im.slots.push_back({});
+  slots_.assign(1, SlotMotion{});
 
   // Actors: one BVH per asset part, one instance per actor part.
   im.part_motion.resize(actors_.size());
-  im.velocity_field.resize(actors_.size());
-  im.normal_matrix.resize(actors_.size());
+  im.part_slot.resize(actors_.size());
   actor_states_.resize(actors_.size());
   for (std::size_t a = 0; a < actors_.size(); ++a) {
     const MeshAsset& asset = *actors_[a].asset;
     im.part_motion[a].resize(asset.parts.size());
-    im.velocity_field[a].resize(asset.parts.size(), Eigen::Matrix<double, 3, 4>::Zero());
-    im.normal_matrix[a].resize(asset.parts.size(), Eigen::Matrix3d::Identity());
+    im.part_slot[a].assign(asset.parts.size(), 0);
     for (std::size_t k = 0; k < asset.parts.size(); ++k) {
       const MeshPart& part = asset.parts[k];
       if (part.triangle_count() == 0) continue;
@@ -210,7 +205,15 @@ void Scene::build() {
       rtcSetGeometryInstancedScene(inst, it->second);
       const auto slot = static_cast<unsigned>(im.slots.size());
       rtcAttachGeometryByID(im.top, inst, slot);
-      im.slots.push_back({static_cast<int>(a), static_cast<int>(k), inst});
+      Eigen::AlignedBox3d box;
+      for (const auto& v : part.vertices) box.extend(v.cast<double>());
+      im.slots.push_back({static_cast<int>(a), static_cast<int>(k), inst, box});
+      im.part_slot[a][k] = slot;
+      SlotMotion motion;
+      motion.reflectivity = part.triangle_reflectivity.data();
+      motion.actor_id = actors_[a].actor_id;
+      motion.actor_index = static_cast<std::uint32_t>(a);
+      slots_.push_back(motion);
     }
   }
   im.check("scene build");
@@ -261,15 +264,25 @@ void Scene::set_time(double t_s) {
       const Eigen::Matrix4d& P_dot = part.parent < 0 ? M_asset_dot : motion[static_cast<std::size_t>(part.parent)].M_dot;
       motion[k].M = P * L;
       motion[k].M_dot = P_dot * L + P * L_dot;  // product rule
+      const std::uint32_t slot = im.part_slot[a][k];
+      if (slot == 0) continue;  // no triangles: nothing to resolve (its children use motion[k])
       // Velocity field of the part's points: v(p) = M_dot M^-1 p.
       const Eigen::Matrix4d M_inv = motion[k].M.inverse();
-      im.velocity_field[a][k] = (motion[k].M_dot * M_inv).topRows<3>();
-      im.normal_matrix[a][k] = M_inv.topLeftCorner<3, 3>().transpose();
+      slots_[slot].velocity_field = (motion[k].M_dot * M_inv).topRows<3>();
+      slots_[slot].normal_matrix = M_inv.topLeftCorner<3, 3>().transpose();
     }
   }
+  std::vector<Eigen::AlignedBox3d>& actor_box = im.actor_box;
+  actor_box.resize(actors_.size());
+  for (auto& box : actor_box) box.setEmpty();
   for (std::size_t s = 1; s < im.slots.size(); ++s) {
     const Impl::Slot& slot = im.slots[s];
     const Eigen::Matrix4d& M = im.part_motion[static_cast<std::size_t>(slot.actor)][static_cast<std::size_t>(slot.part)].M;
+    // The part lies inside the image of its box's corners (the transform is affine).
+    for (int corner = 0; corner < 8; ++corner) {
+      const Eigen::Vector3d p = slot.bounds_part.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner));
+      actor_box[static_cast<std::size_t>(slot.actor)].extend(M.topLeftCorner<3, 3>() * p + M.topRightCorner<3, 1>());
+    }
     float xfm[12];
     for (int c = 0; c < 4; ++c) {
       for (int r = 0; r < 3; ++r) xfm[3 * c + r] = static_cast<float>(M(r, c));
@@ -279,68 +292,134 @@ void Scene::set_time(double t_s) {
   }
   rtcCommitScene(im.top);
   im.check("scene update");
+  actor_bounds_.assign(actors_.size(), BoundingSphere{});
+  for (std::size_t a = 0; a < actors_.size(); ++a) {
+    if (actor_box[a].isEmpty()) continue;
+    // Padded for Embree's single-precision transforms and hit tests.
+    actor_bounds_[a].center = actor_box[a].center();
+    actor_bounds_[a].radius_m = 0.5 * actor_box[a].diagonal().norm() * (1.0 + 1e-4) + 1e-3;
+  }
 }
 
-void Scene::intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f* directions, std::size_t count, float near_m,
-                      float far_m, RayHit* hits) const {
+namespace {
+
+// One layer's query: rays from one origin, in a given order, as in Scene::intersect.
+struct RayQuery {
+  RTCScene scene;
+  bool actors;
+  const Eigen::Vector3f& origin;
+  const Eigen::Vector3f* directions;
+  const std::uint32_t* order;
+  std::size_t count;
+  float near_m, far_m;
+  RayHit* hits;
+
+  std::size_t index(std::size_t k) const { return order ? order[k] : k; }
+  // Actors: only what is nearer than the hit so far (+inf: none).
+  float tfar(std::size_t i) const { return actors ? std::min(far_m, hits[i].distance_m) : far_m; }
+  void store(std::size_t i, unsigned geom, unsigned inst, float t, unsigned prim, float nx, float ny, float nz) const {
+    RayHit& out = hits[i];
+    if (geom == RTC_INVALID_GEOMETRY_ID) {
+      if (!actors) out.distance_m = std::numeric_limits<float>::infinity();
+      return;
+    }
+    out.distance_m = t;
+    out.slot = actors ? inst : 0;
+    out.primitive = prim;
+    out.normal_object = Eigen::Vector3f(nx, ny, nz);
+  }
+};
+
+// Packets of 16 consecutive rays, for a device that traces them natively (AVX-512): about 5 %
+// faster than streams here, which convert to the same packets.
+void intersect_packets(const RayQuery& q, RTCIntersectContext& context) {
+  alignas(64) RTCRayHit16 rh;
+  alignas(64) int valid[16];
+  // What every ray of the call shares; Embree writes only tfar and the hit.
+  for (int k = 0; k < 16; ++k) {
+    rh.ray.org_x[k] = q.origin.x();
+    rh.ray.org_y[k] = q.origin.y();
+    rh.ray.org_z[k] = q.origin.z();
+    rh.ray.tnear[k] = q.near_m;
+    rh.ray.time[k] = 0.0f;
+    rh.ray.mask[k] = 0xFFFFFFFFu;
+    rh.ray.id[k] = static_cast<unsigned>(k);
+    rh.ray.flags[k] = 0;
+  }
+  for (std::size_t begin = 0; begin < q.count; begin += 16) {
+    const std::size_t n = std::min<std::size_t>(16, q.count - begin);
+    for (std::size_t k = 0; k < 16; ++k) {
+      valid[k] = k < n ? -1 : 0;
+      const std::size_t i = q.index(begin + std::min(k, n - 1));  // idle lanes repeat the last ray
+      rh.ray.dir_x[k] = q.directions[i].x();
+      rh.ray.dir_y[k] = q.directions[i].y();
+      rh.ray.dir_z[k] = q.directions[i].z();
+      rh.ray.tfar[k] = q.tfar(i);
+      rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect16(valid, q.scene, &context, &rh);
+    for (std::size_t k = 0; k < n; ++k) {
+      q.store(q.index(begin + k), rh.hit.geomID[k], rh.hit.instID[0][k], rh.ray.tfar[k], rh.hit.primID[k],
+              rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]);
+    }
+  }
+}
+
+// Coherent ray streams: Embree cuts them into packets of the CPU's width.
+void intersect_stream(const RayQuery& q, RTCIntersectContext& context) {
   constexpr std::size_t kChunk = 256;
   RTCRayHit rays[kChunk];
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  for (std::size_t begin = 0; begin < count; begin += kChunk) {
-    const std::size_t n = std::min(kChunk, count - begin);
+  for (std::size_t k = 0; k < std::min(kChunk, q.count); ++k) {
+    RTCRay& ray = rays[k].ray;
+    ray.org_x = q.origin.x();
+    ray.org_y = q.origin.y();
+    ray.org_z = q.origin.z();
+    ray.tnear = q.near_m;
+    ray.time = 0.0f;
+    ray.mask = 0xFFFFFFFFu;
+    ray.id = static_cast<unsigned>(k);
+    ray.flags = 0;
+  }
+  for (std::size_t begin = 0; begin < q.count; begin += kChunk) {
+    const std::size_t n = std::min(kChunk, q.count - begin);
     for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = q.index(begin + k);
       RTCRayHit& rh = rays[k];
-      const Eigen::Vector3f& d = directions[begin + k];
-      rh.ray.org_x = origin.x();
-      rh.ray.org_y = origin.y();
-      rh.ray.org_z = origin.z();
-      rh.ray.dir_x = d.x();
-      rh.ray.dir_y = d.y();
-      rh.ray.dir_z = d.z();
-      rh.ray.tnear = near_m;
-      rh.ray.tfar = far_m;
-      rh.ray.time = 0.0f;
-      rh.ray.mask = 0xFFFFFFFFu;
-      rh.ray.id = static_cast<unsigned>(k);
-      rh.ray.flags = 0;
+      rh.ray.dir_x = q.directions[i].x();
+      rh.ray.dir_y = q.directions[i].y();
+      rh.ray.dir_z = q.directions[i].z();
+      rh.ray.tfar = q.tfar(i);
       rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
       rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     }
-    rtcIntersect1M(impl_->top, &context, rays, static_cast<unsigned>(n), sizeof(RTCRayHit));
+    rtcIntersect1M(q.scene, &context, rays, static_cast<unsigned>(n), sizeof(RTCRayHit));
     for (std::size_t k = 0; k < n; ++k) {
       const RTCRayHit& rh = rays[k];
-      RayHit& out = hits[begin + k];
-      if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-        out.distance_m = std::numeric_limits<float>::infinity();
-        continue;
-      }
-      out.distance_m = rh.ray.tfar;
-      out.slot = rh.hit.instID[0];
-      out.primitive = rh.hit.primID;
-      out.normal_object = Eigen::Vector3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+      q.store(q.index(begin + k), rh.hit.geomID, rh.hit.instID[0], rh.ray.tfar, rh.hit.primID, rh.hit.Ng_x,
+              rh.hit.Ng_y, rh.hit.Ng_z);
     }
   }
 }
 
-SurfaceSample Scene::resolve(const RayHit& hit, const Eigen::Vector3d& point_world) const {
-  SurfaceSample s;
-  if (hit.slot == 0) {
-    s.normal_world = impl_->static_normals[hit.primitive].cast<double>();
-    s.reflectivity = static_reflectivity_[hit.primitive];
-    return s;
+}  // namespace
+
+void Scene::intersect(SceneLayer layer, const Eigen::Vector3f& origin, const Eigen::Vector3f* directions,
+                      const std::uint32_t* order, std::size_t count, float near_m, float far_m, RayHit* hits) const {
+  const bool actors = layer == SceneLayer::kActors;
+  if (count == 0 || (actors && actors_.empty())) return;
+  // The static world is traced straight (no instance level, and its BVH is never rebuilt); the
+  // actors through their top level, rebuilt each frame.
+  const RayQuery query{actors ? impl_->top : impl_->static_scene, actors, origin, directions, order, count, near_m,
+                       far_m, hits};
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  if (impl_->packets16) {
+    intersect_packets(query, context);
+  } else {
+    intersect_stream(query, context);
   }
-  const Impl::Slot& slot = impl_->slots[hit.slot];
-  const auto a = static_cast<std::size_t>(slot.actor);
-  const auto k = static_cast<std::size_t>(slot.part);
-  const Eigen::Matrix<double, 3, 4>& K = impl_->velocity_field[a][k];
-  s.velocity_world_mps = K.leftCols<3>() * point_world + K.col(3);
-  // Normals transform with the inverse transpose (parts may be scaled).
-  s.normal_world = (impl_->normal_matrix[a][k] * hit.normal_object.cast<double>()).normalized();
-  s.reflectivity = actors_[a].asset->parts[k].triangle_reflectivity[hit.primitive];
-  s.actor_id = actors_[a].actor_id;
-  return s;
 }
 
 }  // namespace fmcw::sim

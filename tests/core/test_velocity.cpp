@@ -129,5 +129,19 @@ TEST(Rng, NormalMatchesTheStandardNormalAndIsReproducible) {
   for (int k = 0; k < 10; ++k) EXPECT_EQ(a.next_u64(), b.next_u64());
 }
 
+TEST(Rng, BatchNormalsAreTheSameDrawsAsOneByOne) {
+  Rng one(23), batch(23);
+  std::vector<double> drawn(100003);  // about a thousand of them take the ziggurat's slow path
+  batch.normals(drawn.data(), 3);
+  batch.normals(drawn.data() + 3, drawn.size() - 3);
+  std::size_t beyond_r = 0;
+  for (const double x : drawn) {
+    ASSERT_EQ(x, one.normal());
+    beyond_r += std::abs(x) > 3.44;
+  }
+  EXPECT_GT(beyond_r, 10u);  // the exact tail was drawn too
+  EXPECT_EQ(one.next_u64(), batch.next_u64());
+}
+
 }  // namespace
 }  // namespace fmcw::core

@@ -2,6 +2,7 @@
 // Seeded, platform-independent random numbers: the same seed gives the same draws everywhere
 // (std::*_distribution is implementation-defined, so it is not used where output is compared).
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -26,34 +27,43 @@ extern const ZigguratTables kZiggurat;
 class Rng {
  public:
   explicit Rng(std::uint64_t seed);
-  std::uint64_t next_u64() {
-    const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
-    const std::uint64_t t = s_[1] << 17;
-    s_[2] ^= s_[0];
-    s_[3] ^= s_[1];
-    s_[1] ^= s_[2];
-    s_[0] ^= s_[3];
-    s_[2] ^= t;
-    s_[3] = rotl(s_[3], 45);
-    return result;
-  }
+  std::uint64_t next_u64() { return step(s_[0], s_[1], s_[2], s_[3]); }
   double uniform();                     ///< [0, 1)
   std::uint64_t uniform_below(std::uint64_t n);  ///< [0, n), unbiased
   /// Standard normal by the ziggurat method (128 layers): about 99 % of draws cost one
   /// generator step, a table lookup and a multiply; the rest fall back to exact rejection.
   double normal() {
-    // Layer index from the low bits, signed value from the high 32 bits: independent bits.
     const std::uint64_t bits = next_u64();
-    const int iz = static_cast<int>(bits & 127u);
-    const auto hz = static_cast<std::int64_t>(static_cast<std::int32_t>(bits >> 32));
-    const auto mag = static_cast<std::uint64_t>(hz < 0 ? -hz : hz);
-    if (mag < detail::kZiggurat.k[iz]) return static_cast<double>(hz) * detail::kZiggurat.w[iz];
-    return normal_slow(hz, iz);
+    double x;
+    return ziggurat_fast(bits, x) ? x : normal_slow(bits);
   }
+  /// n draws of normal() into out, the same values in the same order; faster for many draws
+  /// (the generator's state stays in registers between them).
+  void normals(double* out, std::size_t n);
 
  private:
   static std::uint64_t rotl(std::uint64_t v, int k) { return (v << k) | (v >> (64 - k)); }
-  double normal_slow(std::int64_t hz, int iz);
+  static std::uint64_t step(std::uint64_t& s0, std::uint64_t& s1, std::uint64_t& s2, std::uint64_t& s3) {
+    const std::uint64_t result = rotl(s1 * 5, 7) * 9;
+    const std::uint64_t t = s1 << 17;
+    s2 ^= s0;
+    s3 ^= s1;
+    s1 ^= s2;
+    s0 ^= s3;
+    s2 ^= t;
+    s3 = rotl(s3, 45);
+    return result;
+  }
+  // The ziggurat's rectangle test: true (and x) for about 99 % of draws.
+  static bool ziggurat_fast(std::uint64_t bits, double& x) {
+    // Layer index from the low bits, signed value from the high 32 bits: independent bits.
+    const int iz = static_cast<int>(bits & 127u);
+    const auto hz = static_cast<std::int64_t>(static_cast<std::int32_t>(bits >> 32));
+    const auto mag = static_cast<std::uint64_t>(hz < 0 ? -hz : hz);
+    x = static_cast<double>(hz) * detail::kZiggurat.w[iz];
+    return mag < detail::kZiggurat.k[iz];
+  }
+  double normal_slow(std::uint64_t bits);
   std::uint64_t s_[4];
 };
 

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include "fmcw/core/ground_truth.hpp"
 #include "fmcw/core/head_model.hpp"
@@ -12,6 +14,11 @@
 #include "fmcw/sim/scene.hpp"
 
 namespace fmcw::sim {
+
+struct ActorFootprint;
+namespace detail {
+struct HeadState;
+}
 
 struct LidarSimulatorParams {
   core::RigModel rig = core::RigModel::paper_rig();
@@ -61,8 +68,41 @@ class LidarSimulator {
   Eigen::Matrix3f last_rotation_ = Eigen::Matrix3f::Constant(std::numeric_limits<float>::quiet_NaN());
   SubRayPattern pattern_;
   std::vector<Eigen::Vector3f> sub_directions_rig_;  // sub-rays of pixel i at [i * sub, (i + 1) * sub)
+  std::vector<std::pair<std::uint32_t, std::size_t>> actor_ids_;  // (actor id, index into actors()), sorted
+  // The order a block's beams in one head's columns are cast in, as indices into the block.
+  struct TileOrder {
+    int rows = 0;
+    std::pair<int, int> cols{0, 0};
+    std::vector<std::uint32_t> order;
+  };
+  // What each thread reuses from frame to frame.
+  struct ThreadScratch {
+    std::vector<RayHit> hits;
+    std::vector<TileOrder> tile_orders;      // per head
+    std::vector<std::uint32_t> actor_order;  // the beams traced against the actors
+    std::vector<double> normals;  // a row's measurement noise
+    std::vector<Eigen::Vector3f> sub_dirs;
+    std::vector<SubReturn> returns;
+    std::vector<int> pixels;  // per actor index
+  };
+  std::vector<ThreadScratch> scratch_;
 
   int slice_count() const;
+  // Rows [r0, r1) of slice columns span: world directions (when R_world_rig is given) and beam
+  // time offsets (with motion distortion).
+  void prepare_rows(int r0, int r1, const std::vector<std::pair<int, int>>& span, const Eigen::Matrix3f* R_world_rig,
+                    core::Scan& scan);
+  // Casts rows [r0, r1) (at most kBlockRows) into scratch.hits, row-major by block row: the
+  // static world, then the actors (after the scene has moved).
+  void cast_static_block(int r0, int r1, const std::vector<std::pair<int, int>>& span,
+                         const std::vector<detail::HeadState>& heads, ThreadScratch& scratch) const;
+  void cast_actor_block(int r0, int r1, const std::vector<std::pair<int, int>>& span,
+                        const std::vector<detail::HeadState>& heads,
+                        const std::vector<std::vector<ActorFootprint>>& footprints, ThreadScratch& scratch) const;
+  // Casts the sub-rays of row r into scratch.hits, along scratch.sub_dirs (world).
+  void cast_sub_rays(int r, const Eigen::Matrix3f& R_wr, const std::vector<std::pair<int, int>>& span,
+                     const std::vector<detail::HeadState>& heads,
+                     const std::vector<std::vector<ActorFootprint>>& footprints, ThreadScratch& scratch) const;
 };
 
 }  // namespace fmcw::sim

@@ -1,6 +1,8 @@
 #pragma once
 // From the true range and radial velocity of a hit to what the sensor reports.
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "fmcw/core/random.hpp"
@@ -45,9 +47,21 @@ class MeasurementModel {
     double range_m;
     double radial_velocity_mps;
   };
-  /// The reported range and radial velocity of a return. Draws from rng (Gaussian model, or
-  /// beat-frequency jitter) in a fixed order, so a seeded rng gives reproducible readings.
-  Reading measure(double true_range_m, double true_radial_velocity_mps, core::Rng& rng) const;
+  /// The reported range and radial velocity of a return. Draws two standard normals from rng
+  /// (Gaussian model: range, then velocity error; beat-frequency model: up-, then down-ramp
+  /// jitter), so a seeded rng gives reproducible readings.
+  Reading measure(double true_range_m, double true_radial_velocity_mps, core::Rng& rng) const {
+    const double normals[2] = {rng.normal(), rng.normal()};
+    return measure(true_range_m, true_radial_velocity_mps, normals);
+  }
+  /// The same from two standard normals drawn beforehand. Inline: it runs once per pixel.
+  Reading measure(double true_range_m, double true_radial_velocity_mps, const double* normals) const {
+    if (params_.model != MeasurementParams::Model::kGaussian) {
+      return measure_beat_frequency(true_range_m, true_radial_velocity_mps, normals);
+    }
+    return {true_range_m + params_.range_sigma_m * normals[0],
+            true_radial_velocity_mps + params_.velocity_sigma_mps * normals[1]};
+  }
 
   BeatFrequencies beat_frequencies(double range_m, double radial_velocity_mps) const;
   Reading from_beat_frequencies(const BeatFrequencies& f) const;  ///< Eq. 2 and Eq. 4
@@ -57,11 +71,18 @@ class MeasurementModel {
   const MeasurementParams& params() const { return params_; }
 
  private:
+  Reading measure_beat_frequency(double true_range_m, double true_radial_velocity_mps, const double* normals) const;
   MeasurementParams params_;
 };
 
 /// Return intensity: Lambertian reflectivity times the cosine of incidence, falling with the
 /// square of range beyond a 10 m reference (a bright wall at 10 m gives its reflectivity).
-float return_intensity(float reflectivity, double cos_incidence, double range_m);
+inline float return_intensity(float reflectivity, double cos_incidence, double range_m) {
+  constexpr double kReferenceRange = 10.0;
+  constexpr double kReferenceSq = kReferenceRange * kReferenceRange;
+  // 100 / max(r^2, 100): the same values as r > 10 ? 100 / r^2 : 1, without a branch.
+  const double falloff = kReferenceSq / std::max(range_m * range_m, kReferenceSq);
+  return static_cast<float>(reflectivity * std::abs(cos_incidence) * falloff);
+}
 
 }  // namespace fmcw::sim

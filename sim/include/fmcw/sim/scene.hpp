@@ -34,6 +34,24 @@ struct RayHit {
   Eigen::Vector3f normal_object = Eigen::Vector3f::UnitZ();  ///< unnormalised, object space
 };
 
+/// An actor part's motion at the current time, flat for the per-pixel loop: what resolving a
+/// hit on its instance slot needs.
+struct SlotMotion {
+  Eigen::Matrix<double, 3, 4> velocity_field = Eigen::Matrix<double, 3, 4>::Zero();  ///< v(p) = K [p; 1], world
+  Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Identity();  ///< inverse transpose of the part's 3x3
+  const float* reflectivity = nullptr;                          ///< per triangle of the part
+  std::uint32_t actor_id = 0;
+  std::uint32_t actor_index = 0;  ///< into actors()
+};
+
+/// The two layers of a scene, traced separately (see Scene::intersect).
+enum class SceneLayer { kStatic, kActors };
+
+struct BoundingSphere {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  double radius_m = 0.0;
+};
+
 /// What the sensor needs to know about a surface point.
 struct SurfaceSample {
   Eigen::Vector3d velocity_world_mps = Eigen::Vector3d::Zero();
@@ -60,14 +78,42 @@ class Scene {
   void set_time(double t_s);
   double time() const { return time_s_; }
 
-  /// Closest hits of rays from one origin along unit directions, within [near, far].
+  /// Closest hits in one layer of rays from one origin along unit directions, within
+  /// [near, far]. Ray k goes along directions[order[k]] and its hit is hits[order[k]]
+  /// (order == nullptr: k itself). kStatic sets every hit (+inf distance: none); kActors
+  /// looks only nearer than the hit a ray has and replaces it when an actor is nearer, so
+  /// kStatic on all rays and then kActors on any subset that contains every ray that can reach
+  /// an actor gives the closest hits in the whole scene. Rays are traced in packets of
+  /// consecutive k: an order that keeps neighbouring directions together is faster.
   /// Thread-safe between set_time() calls.
-  void intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f* directions, std::size_t count, float near_m,
-                 float far_m, RayHit* hits) const;
+  void intersect(SceneLayer layer, const Eigen::Vector3f& origin, const Eigen::Vector3f* directions,
+                 const std::uint32_t* order, std::size_t count, float near_m, float far_m, RayHit* hits) const;
   /// Velocity, normal and reflectivity at a hit point (world frame) at the current time.
-  SurfaceSample resolve(const RayHit& hit, const Eigen::Vector3d& point_world) const;
+  SurfaceSample resolve(const RayHit& hit, const Eigen::Vector3d& point_world) const {
+    SurfaceSample s;
+    if (hit.slot == 0) {
+      s.normal_world = static_normals_[hit.primitive].cast<double>();
+      s.reflectivity = static_reflectivity_[hit.primitive];
+      return s;
+    }
+    const SlotMotion& m = slots_[hit.slot];
+    s.velocity_world_mps = m.velocity_field.leftCols<3>() * point_world + m.velocity_field.col(3);
+    // Normals transform with the inverse transpose (parts may be scaled).
+    s.normal_world = (m.normal_matrix * hit.normal_object.cast<double>()).normalized();
+    s.reflectivity = m.reflectivity[hit.primitive];
+    s.actor_id = m.actor_id;
+    return s;
+  }
+  /// Unit normal and reflectivity of static triangle k (hits on slot 0).
+  const Eigen::Vector3f& static_normal(std::uint32_t k) const { return static_normals_[k]; }
+  float static_reflectivity(std::uint32_t k) const { return static_reflectivity_[k]; }
+  /// Motion of instance slot s >= 1 at the current time.
+  const SlotMotion& slot(std::uint32_t s) const { return slots_[s]; }
 
   const std::vector<SceneObject>& actors() const { return actors_; }
+  /// A sphere around each actor at the current time (world), padded for single-precision hit
+  /// tests: no ray that misses it hits the actor. Radius 0 for an actor without triangles.
+  const std::vector<BoundingSphere>& actor_bounds() const { return actor_bounds_; }
   /// Body state of actor k at the current time.
   const MotionState& actor_state(std::size_t k) const { return actor_states_[k]; }
   std::size_t static_triangle_count() const { return static_reflectivity_.size(); }
@@ -78,6 +124,9 @@ class Scene {
   std::vector<SceneObject> actors_;
   std::vector<MotionState> actor_states_;
   std::vector<float> static_reflectivity_;
+  std::vector<Eigen::Vector3f> static_normals_;  // unit, per static triangle
+  std::vector<SlotMotion> slots_;                // 0: the static world (unused), then actor parts
+  std::vector<BoundingSphere> actor_bounds_;
   double time_s_ = 0.0;
 };
 
