@@ -164,6 +164,10 @@ DatasetSummary write_dataset(const LoadedScenario& loaded_in, const DatasetOptio
   if (options.shard_count > 1) header.shard = shard;
   header.scenario_yaml = whole_lines(scenario_to_yaml(s));
 
+  // The scene first: what fails there (Embree, memory) fails before any file is written.
+  SimulationSetup setup = build_simulation(loaded, options.num_threads);
+  LidarSimulator simulator(setup.scene, setup.ego, setup.params);
+
   const fs::path dir(options.output_dir);
   const fs::path yaml_file = dir / "dataset.yaml";
   std::error_code ec;
@@ -201,8 +205,6 @@ DatasetSummary write_dataset(const LoadedScenario& loaded_in, const DatasetOptio
   if (summary.frames_written == shard.frames()) return summary;
 
   const auto t0 = std::chrono::steady_clock::now();
-  SimulationSetup setup = build_simulation(loaded, options.num_threads);
-  LidarSimulator simulator(setup.scene, setup.ego, setup.params);
   std::ofstream ego_out(dir / "ego.csv", std::ios::binary | std::ios::app);
   std::ofstream objects_out(dir / "objects.csv", std::ios::binary | std::ios::app);
   if (!ego_out || !objects_out) {

@@ -102,6 +102,9 @@ TEST_F(ScenarioFiles, RigErrorsNameTheHead) {
   expect_error("rig:\n  heads:\n    - {name: a, fov_deg: [400, 30]}\n", {"horizontal field of view must be in (0, 360]"});
   expect_error("rig:\n  heads:\n    - {name: a, fov_deg: [0.01, 30]}\n", {"gives no pixels"});
   expect_error("rig:\n  heads:\n    - {name: a, max_range_m: 0}\n", {"max range must be > 0"});
+  // A resolution in the wrong unit: 6e12 pixels refused before anything is allocated.
+  expect_error("rig:\n  heads:\n    - {name: a, fov_deg: [360, 170], resolution_deg: [0.0001, 0.0001]}\n",
+               {"s.yaml:3: rig.heads[0]", "head 'a'", "pixels, more than the 16777216 a head may have"});
   expect_error("rig: nowhere.yaml\n", {"rig config", "nowhere.yaml' does not exist"});
   // A name the system rejects (longer than PATH_MAX) is reported like a missing file.
   expect_error("rig: " + std::string(5000, 'r') + "\n", {"s.yaml:1: rig", "does not exist"});

@@ -24,6 +24,10 @@ struct HeadModel {
   double max_range_m = 150.0;  ///< [m] Table I
   double rate_hz = 10.0;       ///< [Hz] Table I
 
+  /// At most this many pixels per head (2^24, over 180 times Table I's rig): a resolution
+  /// typed in the wrong unit is an error, not a multi-terabyte allocation.
+  static constexpr long long kMaxPixels = 16777216;
+
   /// Throws std::invalid_argument naming the head and the bad field.
   void validate() const;
   int cols() const;
