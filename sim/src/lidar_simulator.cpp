@@ -4,10 +4,11 @@
 
 #include <algorithm>
 #include <atomic>
-#include <exception>
-#include <thread>
+#include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <thread>
 
 #include "fmcw/core/check.hpp"
 #include "fmcw/core/random.hpp"
@@ -247,6 +248,12 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
   // Per-thread scratch, kept between frames; pixel counts per actor restart at zero.
   if (scratch_.size() < static_cast<std::size_t>(threads)) scratch_.resize(static_cast<std::size_t>(threads));
   for (ThreadScratch& s : scratch_) s.pixels.assign(scene_->actors().size(), 0);
+  const auto blocks = static_cast<std::size_t>((rows + kBlockRows - 1) / kBlockRows);
+  if (block_order_.size() != blocks) {
+    block_order_.resize(blocks);
+    for (std::size_t b = 0; b < blocks; ++b) block_order_[b] = static_cast<int>(b);
+    block_cost_.assign(blocks, 0.0);
+  }
 
   for (int k = 0; k < slices; ++k) {
     // The columns of slice k in each head, and the instant they are cast at.
@@ -297,10 +304,14 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
         }
       }
       ThreadScratch& scratch = scratch_[static_cast<std::size_t>(omp_get_thread_num())];
-      // Dynamic blocks of rows: sky rows cost little, ground rows a lot. Each (row, slice) draws
-      // from its own seed, so the result does not depend on which thread takes it.
+      // Dynamic blocks of rows: sky rows cost little, rows near the horizon a lot. The costliest
+      // blocks of the last frame go first, so that the last ones to finish are short. Each
+      // (row, slice) draws from its own seed, so the result does not depend on which thread
+      // takes it, nor on the order.
 #pragma omp for schedule(dynamic, 1)
-      for (int r0 = 0; r0 < rows; r0 += kBlockRows) {
+      for (std::size_t b = 0; b < block_order_.size(); ++b) {
+        const auto started = std::chrono::steady_clock::now();
+        const int r0 = block_order_[b] * kBlockRows;
         const int r1 = std::min(rows, r0 + kBlockRows);
         prepare_rows(r0, r1, span, rotate ? &R_wr_f : nullptr, scan);
         if (pattern_.offsets.size() == 1) cast_static_block(r0, r1, span, heads, scratch);
@@ -335,10 +346,15 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
                                         scratch.hits.data(), rng, scratch.returns, scratch.pixels.data());
           }
         }
+        block_cost_[static_cast<std::size_t>(block_order_[b])] =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
       }
     }
     if (failure) std::rethrow_exception(failure);
   }
+
+  std::stable_sort(block_order_.begin(), block_order_.end(),
+                   [this](int a, int b) { return block_cost_[static_cast<std::size_t>(a)] > block_cost_[static_cast<std::size_t>(b)]; });
 
   // Frame truth at the frame's stamp (with distortion, pixels carry their offsets from it).
   if (slices > 1) scene_->set_time(t_s);

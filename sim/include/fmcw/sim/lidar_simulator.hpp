@@ -86,6 +86,8 @@ class LidarSimulator {
     std::vector<int> pixels;  // per actor index
   };
   std::vector<ThreadScratch> scratch_;
+  std::vector<int> block_order_;    // blocks of kBlockRows rows, costliest in the last frame first
+  std::vector<double> block_cost_;  // per block, seconds in the last frame
 
   int slice_count() const;
   // Rows [r0, r1) of slice columns span: world directions (when R_world_rig is given) and beam
