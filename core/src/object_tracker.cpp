@@ -20,6 +20,9 @@ void TrackerParams::validate() const {
                  "tracking: outlier thresholds must be > 0");
   FMCW_CHECK_ARG(position_sigma_m > 0.0, "tracking: position_sigma_m must be > 0, got ",
                  position_sigma_m);
+  FMCW_CHECK_ARG(small_object_m >= 0.0 && small_position_sigma_m > 0.0 && small_doppler_floor_mps > 0.0 &&
+                     small_initial_tangential_sigma_mps > 0.0,
+                 "tracking: small_object_m must be >= 0, the small-object noises > 0");
   FMCW_CHECK_ARG(accel_sigma_mps2 > 0.0 && yaw_accel_sigma_rps2 > 0.0,
                  "tracking: process noise must be > 0");
   FMCW_CHECK_ARG(initial_yaw_rate_sigma_rps > 0.0 && max_initial_velocity_sigma_mps > 0.0,
@@ -32,6 +35,11 @@ void TrackerParams::validate() const {
                  min_cluster_pixels);
   FMCW_CHECK_ARG(confirm_hits >= 1 && max_misses >= 0 && release_slow_frames >= 1,
                  "tracking: confirm_hits and release_slow_frames must be >= 1, max_misses >= 0");
+  FMCW_CHECK_ARG(associate_doppler_tolerance_mps > 0.0 && absorb_max_pixels >= 0 && max_yaw_rate_rps > 0.0 &&
+                     vehicle_length_m > 0.0 && claim_position_sigma_m > 0.0,
+                 "tracking: associate_doppler_tolerance_mps, max_yaw_rate_rps, vehicle_length_m and "
+                 "claim_position_sigma_m must be > 0, "
+                 "absorb_max_pixels >= 0");
   FMCW_CHECK_ARG(claim_doppler_tolerance_mps > 0.0,
                  "tracking: claim_doppler_tolerance_mps must be > 0");
   FMCW_CHECK_ARG(max_length_m > 0.0 && max_width_m > 0.0, "tracking: box size caps must be > 0");
@@ -110,6 +118,12 @@ struct Box {
     const double b = -d.x() * u.y() + d.y() * u.x();
     return std::abs(a) <= half_l + grow && std::abs(b) <= half_w + grow;
   }
+  double distance(const Eigen::Vector2d& q) const {  // 0 inside
+    const Eigen::Vector2d d = q - centre;
+    const double a = std::max(0.0, std::abs(d.dot(u)) - half_l);
+    const double b = std::max(0.0, std::abs(-d.x() * u.y() + d.y() * u.x()) - half_w);
+    return std::hypot(a, b);
+  }
 };
 
 Box box_of(const Track& t) {
@@ -138,6 +152,7 @@ double predicted(const Row& r, const Vec5& x) {
 struct Group {
   std::vector<std::uint32_t> pixels;
   std::vector<std::int32_t> clusters;  // labels merged into it
+  std::vector<std::int32_t> absorbed;  // labels merged into its label but not measured
   int claimed = 0;
 };
 }  // namespace
@@ -210,60 +225,83 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
   for (std::size_t c = 0; c < k; ++c) cluster_centroid[c] = world_xy(est.clusters[c].centroid_m);
 
   // Association: each cluster joins the track whose predicted box (grown by the gate) holds
-  // its centroid and whose centre is nearest. A track's nearest cluster is its primary one;
-  // further clusters join it only when they lie inside the box itself and move as it does
-  // (the two ends of a vehicle split by the blind band).
+  // its centroid, whose predicted motion explains its Doppler (median deviation), and that
+  // lies nearest to it (distance to the box, zero inside; then to its centre). A vehicle split
+  // by the blind band or by an occluder thus stays one object. A small cluster inside a box
+  // whose Doppler the track does not explain (a wheel, a swinging arm) is absorbed into the
+  // object's label but not measured.
   std::vector<Group> groups(tracks_.size());
   std::vector<int> owner(k, -1);
+  std::vector<int> absorbed(k, -1);
   std::vector<Box> boxes(tracks_.size());
   for (std::size_t t = 0; t < tracks_.size(); ++t) boxes[t] = box_of(tracks_[t]);
+  auto doppler_deviation = [&](std::size_t c, const Track& tr) {
+    const std::vector<std::uint32_t>& px = cluster_pixels[c];
+    const std::size_t step = std::max<std::size_t>(1, px.size() / 256);
+    std::vector<double> dev;
+    dev.reserve(px.size() / step + 1);
+    for (std::size_t n = 0; n < px.size(); n += step) {
+      const Row r = row_of(px[n]);
+      dev.push_back(std::abs(r.y - predicted(r, tr.x)));
+    }
+    std::nth_element(dev.begin(), dev.begin() + static_cast<std::ptrdiff_t>(dev.size() / 2), dev.end());
+    return dev[dev.size() / 2];
+  };
   for (std::size_t c = 0; c < k; ++c) {
     if (static_cast<int>(cluster_pixels[c].size()) < p.min_cluster_pixels) continue;
     double best = std::numeric_limits<double>::infinity();
+    double best_absorb = best;
     for (std::size_t t = 0; t < tracks_.size(); ++t) {
       // The gate widens with the track's position uncertainty: a young track's tangential
       // velocity is hardly known.
       const double pos_var = tracks_[t].P.topLeftCorner<2, 2>().eigenvalues().real().maxCoeff();
       const double gate = p.gate_m + 3.0 * std::sqrt(std::max(0.0, pos_var));
       if (!boxes[t].contains(cluster_centroid[c], gate)) continue;
-      const double d = (cluster_centroid[c] - boxes[t].centre).norm();
-      if (d < best) {
-        best = d;
-        owner[c] = static_cast<int>(t);
+      // A large cluster beside a small track (a car passing a walker) is nearer the walker's
+      // centre than its own box's: the box distance decides, the centre only breaks ties.
+      const double d = boxes[t].distance(cluster_centroid[c]) +
+                       1e-3 * (cluster_centroid[c] - boxes[t].centre).norm();
+      if (doppler_deviation(c, tracks_[t]) <= p.associate_doppler_tolerance_mps) {
+        if (d < best) {
+          best = d;
+          owner[c] = static_cast<int>(t);
+        }
+      } else if (static_cast<int>(cluster_pixels[c].size()) <= p.absorb_max_pixels &&
+                 tracks_[t].length_m >= p.vehicle_length_m &&
+                 boxes[t].contains(cluster_centroid[c], p.claim_margin_m) && d < best_absorb) {
+        best_absorb = d;
+        absorbed[c] = static_cast<int>(t);
       }
     }
+    if (owner[c] >= 0) absorbed[c] = -1;
   }
+  // A track's nearest cluster always joins it; further ones only from inside its box grown by
+  // claim_margin_m (walkers side by side move alike), a vehicle's by the gate (its far end may
+  // not have been seen yet). The others start tracks.
   for (std::size_t t = 0; t < tracks_.size(); ++t) {
     std::vector<std::size_t> mine;
     for (std::size_t c = 0; c < k; ++c) {
       if (owner[c] == static_cast<int>(t)) mine.push_back(c);
     }
     std::sort(mine.begin(), mine.end(), [&](std::size_t a, std::size_t b) {
-      const double da = (cluster_centroid[a] - boxes[t].centre).squaredNorm();
-      const double db = (cluster_centroid[b] - boxes[t].centre).squaredNorm();
+      const double da = boxes[t].distance(cluster_centroid[a]);
+      const double db = boxes[t].distance(cluster_centroid[b]);
       return da != db ? da < db : a < b;
     });
+    const bool vehicle = tracks_[t].length_m >= p.vehicle_length_m;
     for (std::size_t n = 0; n < mine.size(); ++n) {
       const std::size_t c = mine[n];
-      bool joins = n == 0;
-      if (!joins && boxes[t].contains(cluster_centroid[c], p.claim_margin_m)) {
-        std::vector<double> dev;
-        for (std::uint32_t i : cluster_pixels[c]) {
-          const Row r = row_of(i);
-          dev.push_back(std::abs(r.y - predicted(r, tracks_[t].x)));
-        }
-        std::nth_element(dev.begin(), dev.begin() + static_cast<std::ptrdiff_t>(dev.size() / 2),
-                         dev.end());
-        joins = dev[dev.size() / 2] < p.claim_doppler_tolerance_mps;
-      }
-      if (joins) {
-        groups[t].clusters.push_back(static_cast<std::int32_t>(c + 1));
-        groups[t].pixels.insert(groups[t].pixels.end(), cluster_pixels[c].begin(),
-                                cluster_pixels[c].end());
-      } else {
+      if (n > 0 && !boxes[t].contains(cluster_centroid[c], vehicle ? p.gate_m : p.claim_margin_m)) {
         owner[c] = -1;
+        continue;
       }
+      groups[t].clusters.push_back(static_cast<std::int32_t>(c + 1));
+      groups[t].pixels.insert(groups[t].pixels.end(), cluster_pixels[c].begin(), cluster_pixels[c].end());
     }
+  }
+  for (std::size_t c = 0; c < k; ++c) {
+    if (owner[c] < 0 && absorbed[c] >= 0)
+      groups[static_cast<std::size_t>(absorbed[c])].absorbed.push_back(static_cast<std::int32_t>(c + 1));
   }
 
   // Carrying tracks claim static pixels inside their predicted box that move as they do: the
@@ -294,7 +332,6 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
 
   // Measurement update of every track that has pixels this frame.
   const double sensor_w = 1.0 / (p.doppler_sigma_mps * p.doppler_sigma_mps);
-  const double pos_w = 1.0 / (p.position_sigma_m * p.position_sigma_m);
   auto measure = [&](Track& tr, const Group& g, bool born) {
     // Box: heading from the velocity once the object moves, extents in that frame, centre
     // anchored at the visible end when less than the whole length is seen.
@@ -316,20 +353,26 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     // the object (the rest is in the blind band), not its visible outline: the box is then
     // left as predicted.
     const std::size_t found = g.pixels.size() - static_cast<std::size_t>(g.claimed);
-    const std::size_t own = born || static_cast<std::size_t>(g.claimed) <= found ? found : 0;
+    std::size_t own = born || static_cast<std::size_t>(g.claimed) <= found ? found : 0;
+    // A small object wholly inside the band (a walker crossing the beams) is found by its claims
+    // alone; they lie in its predicted box, which is tight, and give its centre (not its size).
+    const bool small_track = std::max(tr.length_m, tr.width_m) < p.small_object_m;
+    const bool centre_from_claims = !born && found == 0 && g.claimed > 0 && small_track;
+    const std::size_t first = centre_from_claims ? found : 0;
+    if (centre_from_claims) own = g.pixels.size();
     Eigen::Vector2d ref = Eigen::Vector2d::Zero();
     std::vector<Eigen::Vector2d> pts;
     pts.reserve(own);
     double zmin = std::numeric_limits<double>::infinity();
     double zmax = -zmin;
-    for (std::size_t n = 0; n < own; ++n) {
+    for (std::size_t n = first; n < own; ++n) {
       const Eigen::Vector3d q = scan.position(g.pixels[n]);
       pts.push_back(world_xy(q));
       ref += pts.back();
       zmin = std::min(zmin, q.z());
       zmax = std::max(zmax, q.z());
     }
-    ref /= static_cast<double>(std::max<std::size_t>(own, 1));
+    ref /= static_cast<double>(std::max<std::size_t>(own - first, 1));
     double a0 = 0.0, a1 = 0.0, b0 = 0.0, b1 = 0.0;
     for (const Eigen::Vector2d& q : pts) {
       const Eigen::Vector2d d = q - ref;
@@ -339,11 +382,13 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
       b1 = std::max(b1, d.dot(wv));
     }
     Eigen::Vector2d centre = tr.centre();
-    if (own > 0) {
-      tr.length_m = std::min(resize ? a1 - a0 : std::max(tr.length_m, a1 - a0), p.max_length_m);
-      tr.width_m = std::min(resize ? b1 - b0 : std::max(tr.width_m, b1 - b0), p.max_width_m);
-      tr.z_min_m = zmin;  // this frame's: the ground under an object changes at curbs
-      tr.z_max_m = zmax;
+    if (own > first) {
+      if (!centre_from_claims) {
+        tr.length_m = std::min(resize ? a1 - a0 : std::max(tr.length_m, a1 - a0), p.max_length_m);
+        tr.width_m = std::min(resize ? b1 - b0 : std::max(tr.width_m, b1 - b0), p.max_width_m);
+        tr.z_min_m = zmin;  // this frame's: the ground under an object changes at curbs
+        tr.z_max_m = zmax;
+      }
       const Eigen::Vector2d s = position_ - ref;  // the sensor, relative to ref
       auto anchor = [](double lo, double hi, double size, double sensor) {
         if (sensor < lo) return lo + 0.5 * size;
@@ -377,32 +422,63 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
         std::max(p.outlier_floor_mps, p.outlier_sigmas * 1.4826 * dev[dev.size() / 2]);
     std::size_t used = 0;
     for (const Row& r : rows) used += std::abs(r.residual - med) <= cut ? 1 : 0;
-    const double w =
-        sensor_w * std::min(1.0, static_cast<double>(p.max_effective_rows) /
-                                     static_cast<double>(std::max<std::size_t>(used, 1)));
+    const bool small = std::max(tr.length_m, tr.width_m) < p.small_object_m;
     Mat5 info = Mat5::Zero();
     Vec5 grad = Vec5::Zero();
     const Vec5& x = tr.x;
-    for (const Row& r : rows) {
-      if (std::abs(r.residual - med) > cut) continue;
+    auto row_jacobian = [&](const Row& r) {
       const Eigen::Vector2d d = r.o - x.head<2>();
       Vec5 h;
       h << -x(4) * r.e.y(), x(4) * r.e.x(), r.e.x(), r.e.y(), r.e.y() * d.x() - r.e.x() * d.y();
-      info.noalias() += w * h * h.transpose();
-      grad += w * h * r.residual;
+      return h;
+    };
+    if (small) {
+      // One row: the mean of the inlier rows. Its noise is the rows' spread over the square
+      // root of their effective count, floored (the gait phase moves the mean).
+      Vec5 h_mean = Vec5::Zero();
+      double res_mean = 0.0;
+      for (const Row& r : rows) {
+        if (std::abs(r.residual - med) > cut) continue;
+        h_mean += row_jacobian(r);
+        res_mean += r.residual;
+      }
+      if (used > 0) {
+        h_mean /= static_cast<double>(used);
+        res_mean /= static_cast<double>(used);
+        const double spread = std::max(p.doppler_sigma_mps, cut / p.outlier_sigmas);
+        const double n_eff = static_cast<double>(std::min<std::size_t>(used, static_cast<std::size_t>(p.max_effective_rows)));
+        const double sigma = std::max(p.small_doppler_floor_mps, spread / std::sqrt(n_eff));
+        info = h_mean * h_mean.transpose() / (sigma * sigma);
+        grad = h_mean * res_mean / (sigma * sigma);
+      }
+    } else {
+      const double w =
+          sensor_w * std::min(1.0, static_cast<double>(p.max_effective_rows) /
+                                       static_cast<double>(std::max<std::size_t>(used, 1)));
+      for (const Row& r : rows) {
+        if (std::abs(r.residual - med) > cut) continue;
+        const Vec5 h = row_jacobian(r);
+        info.noalias() += w * h * h.transpose();
+        grad += w * h * r.residual;
+      }
     }
     // The box centre jumps when occlusion changes what is visible: Huber-weighted beyond 3
     // standard deviations of the innovation, so a jump does not drag velocity and yaw rate.
     const Eigen::Vector2d innovation =
         own > 0 ? Eigen::Vector2d(centre - x.head<2>()) : Eigen::Vector2d::Zero();
-    const Eigen::Matrix2d S = tr.P.topLeftCorner<2, 2>() + Eigen::Matrix2d::Identity() / pos_w;
+    const double pos_sigma = centre_from_claims ? p.claim_position_sigma_m
+                             : small            ? p.small_position_sigma_m
+                                                : p.position_sigma_m;
+    const double pos_w_here = 1.0 / (pos_sigma * pos_sigma);
+    const Eigen::Matrix2d S = tr.P.topLeftCorner<2, 2>() + Eigen::Matrix2d::Identity() / pos_w_here;
     const double mahalanobis = std::sqrt(innovation.dot(S.inverse() * innovation));
-    const double pw = own > 0 ? pos_w * std::min(1.0, 3.0 / std::max(mahalanobis, 1e-12)) : 0.0;
+    const double pw = own > 0 ? pos_w_here * std::min(1.0, 3.0 / std::max(mahalanobis, 1e-12)) : 0.0;
     info.topLeftCorner<2, 2>() += pw * Eigen::Matrix2d::Identity();
     grad.head<2>() += pw * innovation;
     const Mat5 P_inv = tr.P.inverse();
     const Mat5 P_new = (P_inv + info).inverse();
     tr.x += P_new * grad;
+    tr.x(4) = std::clamp(tr.x(4), -p.max_yaw_rate_rps, p.max_yaw_rate_rps);
     tr.P = 0.5 * (P_new + P_new.transpose());
   };
 
@@ -422,7 +498,8 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
   // New tracks from the clusters no track took.
   for (std::size_t c = 0; c < k; ++c) {
     const ClusterEstimate& ce = est.clusters[c];
-    if (owner[c] >= 0 || static_cast<int>(cluster_pixels[c].size()) < p.min_cluster_pixels ||
+    if (owner[c] >= 0 || absorbed[c] >= 0 ||
+        static_cast<int>(cluster_pixels[c].size()) < p.min_cluster_pixels ||
         !ce.velocity.valid)
       continue;
     Track tr;
@@ -461,6 +538,21 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     tr.P.block<2, 1>(2, 4) = -s0 * s0 * sv;
     tr.P.block<1, 2>(4, 2) = -s0 * s0 * sv.transpose();
     tr.P(4, 4) = s0 * s0;
+    if (std::max(tr.length_m, tr.width_m) < p.small_object_m && d.norm() > 0.0) {
+      // A small object: its single-scan tangential velocity is not to be trusted (see
+      // small_object_m). Prior: the radial part as measured, the tangential part unknown, the
+      // yaw rate unrelated to either (a small object's Doppler does not see it).
+      const Eigen::Vector2d radial = -d.normalized();
+      const Eigen::Vector2d tangential(-radial.y(), radial.x());
+      const double var_r = std::max(floor, radial.dot(cov * radial));
+      const double st = p.small_initial_tangential_sigma_mps;
+      tr.x.segment<2>(2) = radial.dot(v) * radial;
+      tr.P.topLeftCorner<2, 2>() =
+          Eigen::Matrix2d::Identity() * (p.small_position_sigma_m * p.small_position_sigma_m);
+      tr.P.block<2, 2>(2, 2) = var_r * radial * radial.transpose() + st * st * tangential * tangential.transpose();
+      tr.P.block<2, 1>(2, 4).setZero();
+      tr.P.block<1, 2>(4, 2).setZero();
+    }
     tr.hits = 1;
     if (tr.hits >= p.confirm_hits) tr.confirmed = true;
     owner[c] = static_cast<int>(tracks_.size());
@@ -474,6 +566,8 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
   std::vector<std::int32_t> group_of_label(k + 1, -1);  // old label -> group
   for (std::size_t t = 0; t < n_groups; ++t) {
     for (std::int32_t l : groups[t].clusters)
+      group_of_label[static_cast<std::size_t>(l)] = static_cast<std::int32_t>(t);
+    for (std::int32_t l : groups[t].absorbed)
       group_of_label[static_cast<std::size_t>(l)] = static_cast<std::int32_t>(t);
   }
   std::vector<std::int32_t> claimed_by(est.labels.size(), -1);
@@ -562,7 +656,12 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
                          std::abs(tr.yaw_rate()) >= p.turn_significance * w_sigma;
     Eigen::Vector2d vel = tr.velocity();
     Eigen::Matrix2d cov = tr.P.block<2, 2>(2, 2);
-    if (!turning) {
+    // A small object's Doppler pins only its radial velocity, the same for v and for
+    // v + omega z x (o - c): the track's own velocity is the better guess either way.
+    const bool small = std::max(tr.length_m, tr.width_m) < p.small_object_m;
+    if (!turning && small) {
+      ce.yaw_rate_rps = 0.0;
+    } else if (!turning) {
       vel = J * tr.x.segment<3>(2);
       cov = J * tr.P.block<3, 3>(2, 2) * J.transpose();
       ce.yaw_rate_rps = 0.0;

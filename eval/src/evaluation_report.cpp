@@ -71,7 +71,9 @@ json method_json(const MethodSummary& s, const std::vector<TargetCheck>& checks)
        {{"actor_frames", s.blind_actor_frames},
         {"band_pixels", s.blind_band_pixels},
         {"band_pixels_detected", s.blind_band_detected},
-        {"recall_tracked", number(s.blind_recall_tracked)}}},
+        {"recall_tracked", number(s.blind_recall_tracked)},
+        {"part_pixels", s.blind_part_pixels},
+        {"part_recall", number(s.blind_part_recall)}}},
       {"timing_ms", timing(s.mean_timing_ms)},
       {"timing_max_ms", timing(s.max_timing_ms)},
       {"targets", targets},
@@ -108,7 +110,7 @@ void write_objects(const std::string& path, const EvaluationResult& r) {
               "estimate_valid", "cluster", "pixels_in_cluster", "cluster_pixels", "est_vx_mps", "est_vy_mps",
               "est_vz_mps", "true_vx_mps", "true_vy_mps", "true_vz_mps", "ref_vx_mps", "ref_vy_mps", "ref_vz_mps",
               "err_x_mps", "err_y_mps", "err_z_mps", "err_mps", "ref_err_mps", "true_x_m", "true_y_m",
-              "est_centre_x_m", "est_centre_y_m", "true_yaw_rate_dps", "est_yaw_rate_dps"});
+              "est_centre_x_m", "est_centre_y_m", "true_yaw_rate_dps", "est_yaw_rate_dps", "track_id"});
   for (std::size_t k = 0; k < static_cast<std::size_t>(r.dataset.frames); ++k) {
     for (const auto& frames : r.frames) {
       const FrameEvaluation& f = frames[k];
@@ -119,7 +121,7 @@ void write_objects(const std::string& path, const EvaluationResult& r) {
         t.add(m.estimate_mps).add(m.truth_mean_mps).add(m.reference_mps).add(m.error_mps());
         t.add(m.error_mps().norm()).add(m.reference_error_mps().norm());
         t.add(m.position_m.x()).add(m.position_m.y()).add(m.estimate_centre_m.x()).add(m.estimate_centre_m.y());
-        t.add(m.yaw_rate_rps * kDegPerRad).add(m.estimate_yaw_rate_rps * kDegPerRad);
+        t.add(m.yaw_rate_rps * kDegPerRad).add(m.estimate_yaw_rate_rps * kDegPerRad).add(m.estimate_track_id);
         t.end_row();
       }
     }

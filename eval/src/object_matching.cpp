@@ -84,6 +84,7 @@ std::vector<ObjectMatch> match_objects(const core::PixelGroundTruth& gt, const s
         m.estimate_mps = c.velocity.velocity_mps;
         m.estimate_centre_m = c.centre_m;
         m.estimate_yaw_rate_rps = c.yaw_rate_rps;
+        m.estimate_track_id = c.track_id;
       }
     }
     out.push_back(m);
@@ -132,26 +133,40 @@ InstanceCounts count_instances(const core::PixelGroundTruth& gt, const std::vect
 }
 
 std::vector<BlindBandActor> blind_band_actors(const core::Scan& scan, const core::PixelGroundTruth& gt,
-                                              const core::MotionEstimate& estimate, double band_mps) {
+                                              const core::FrameTruth& truth, const core::MotionEstimate& estimate,
+                                              double band_mps) {
   FMCW_CHECK_ARG(band_mps > 0.0, "blind band: band_mps must be > 0, got ", band_mps);
   const std::size_t n = scan.size();
   gt.validate(n);
   FMCW_CHECK_ARG(estimate.labels.size() == n, "blind band: estimate has ", estimate.labels.size(), " labels for ",
                  n, " pixels");
+  std::map<std::uint32_t, const core::ActorTruth*> bodies;
+  for (const core::ActorTruth& a : truth.actors) bodies[a.id] = &a;
   std::map<std::uint32_t, BlindBandActor> actors;
   for (int r = 0; r < scan.rows; ++r) {
     for (int col = 0; col < scan.cols; ++col) {
       const std::size_t i = scan.index(r, col);
       if (!scan.valid[i] || !gt.moving[i] || gt.instance[i] == 0) continue;
-      const Eigen::Vector3d e = (scan.position(i) - scan.beam_origin(i)).normalized();
-      const double along = e.dot(Eigen::Vector3d(gt.vx_mps[i], gt.vy_mps[i], gt.vz_mps[i]));
+      const auto body = bodies.find(gt.instance[i]);
+      FMCW_CHECK_ARG(body != bodies.end(), "blind band: pixels hit actor ", gt.instance[i],
+                     " but the frame's truth lists no such actor");
+      const core::ActorTruth& t = *body->second;
+      const Eigen::Vector3d p = scan.position(i);
+      const Eigen::Vector3d e = (p - scan.beam_origin(i)).normalized();
+      const Eigen::Vector3d v_body = t.velocity_rig_mps + t.angular_velocity_rig_rps.cross(p - t.position_rig_m);
+      const bool detected = estimate.labels[i] >= 1;
       BlindBandActor& a = actors[gt.instance[i]];
       a.actor_id = gt.instance[i];
-      if (std::abs(along) < band_mps) {
+      if (std::abs(e.dot(v_body)) < band_mps) {
         ++a.band_pixels;
-        a.band_detected += estimate.labels[i] >= 1 ? 1 : 0;
-      } else {
-        ++a.visible_pixels;
+        a.band_detected += detected ? 1 : 0;
+        continue;
+      }
+      ++a.visible_pixels;
+      const double own = e.dot(Eigen::Vector3d(gt.vx_mps[i], gt.vy_mps[i], gt.vz_mps[i]));
+      if (std::abs(own) < band_mps) {
+        ++a.part_band_pixels;
+        a.part_band_detected += detected ? 1 : 0;
       }
     }
   }

@@ -77,6 +77,10 @@ MethodSummary summarize(const std::vector<FrameEvaluation>& frames, const Summar
         s.blind_band_pixels += static_cast<std::uint64_t>(a.band_pixels);
         s.blind_band_detected += static_cast<std::uint64_t>(a.band_detected);
       }
+      if (a.part_band_pixels > 0 && seen_moving.count(a.actor_id) > 0) {
+        s.blind_part_pixels += static_cast<std::uint64_t>(a.part_band_pixels);
+        s.blind_part_detected += static_cast<std::uint64_t>(a.part_band_detected);
+      }
     }
     for (const BlindBandActor& a : f.blind_band) {
       if (a.visible_pixels >= params.blind_visible_pixels) seen_moving.insert(a.actor_id);
@@ -102,6 +106,7 @@ MethodSummary summarize(const std::vector<FrameEvaluation>& frames, const Summar
   s.instance_precision = ratio(s.instances.clusters_matched, s.instances.clusters);
   s.instance_recall = ratio(s.instances.actors_matched, s.instances.actors);
   s.blind_recall_tracked = ratio(static_cast<double>(s.blind_band_detected), static_cast<double>(s.blind_band_pixels));
+  s.blind_part_recall = ratio(static_cast<double>(s.blind_part_detected), static_cast<double>(s.blind_part_pixels));
   const double n = frames.empty() ? kNaN : static_cast<double>(frames.size());
   s.mean_timing_ms = {sum.clustering_ms / n, sum.ego_ms / n, sum.objects_ms / n, sum.total_ms / n};
   return s;

@@ -37,6 +37,11 @@ py::list objects_list(const core::MotionEstimate& e) {
     d["id"] = c.id;
     d["pixels"] = c.num_pixels;
     d["centroid"] = to_array(c.centroid_m);
+    d["track_id"] = c.track_id;  // 0: untracked (methods without tracking, or a track not yet born)
+    d["track_hits"] = c.track_hits;
+    d["carried_pixels"] = c.carried_pixels;
+    d["centre"] = to_array(c.centre_m);
+    d["yaw_rate"] = c.yaw_rate_rps;
     out.append(d);
   }
   return out;

@@ -24,6 +24,18 @@ struct TrackerParams {
   double outlier_sigmas = 3.0;
   double outlier_floor_mps = 0.15;
   double position_sigma_m = 0.7;       ///< box-centre measurement noise [m]
+  /// Objects whose box is shorter than this on both axes (walkers, a cyclist seen head-on) span
+  /// a few degrees: their Doppler rows fix the radial velocity but hardly the tangential one,
+  /// and swinging limbs bias what little they say about it. Such an object is measured by its
+  /// mean Doppler along its mean beam, and its tangential velocity comes from its path [m].
+  double small_object_m = 1.2;
+  double small_position_sigma_m = 0.15;        ///< box-centre noise of a small object [m]
+  double small_doppler_floor_mps = 0.05;       ///< floor of its mean-Doppler noise (gait) [m/s]
+  double small_initial_tangential_sigma_mps = 1.5;  ///< its tangential velocity at birth [m/s]
+  /// A small object wholly inside the blind band is seen only through the pixels its track
+  /// claims; their centre is a weak measurement of its position (they may include whatever
+  /// stands close by) [m].
+  double claim_position_sigma_m = 0.75;
   double accel_sigma_mps2 = 2.5;        ///< constant-turn-rate model: acceleration noise [m/s^2]
   double yaw_accel_sigma_rps2 = 0.8;    ///< yaw acceleration noise [rad/s^2]
   double initial_yaw_rate_sigma_rps = 0.4;
@@ -35,6 +47,15 @@ struct TrackerParams {
   double max_initial_velocity_sigma_mps = 6.0;  ///< caps the unobservable direction at birth
   double gate_m = 2.0;                  ///< association: cluster centroid within the predicted box grown by this [m]
   int min_cluster_pixels = 8;           ///< smaller clusters neither start nor update tracks
+  /// A cluster joins a track only when the track's predicted motion explains its Doppler to
+  /// within this (median over its pixels) [m/s].
+  double associate_doppler_tolerance_mps = 0.6;
+  /// Tracks at least this long are vehicles: a second cluster joins one up to the gate from its
+  /// box (its far end may not have been seen yet), and small clusters inside its box whose
+  /// Doppler it does not explain (wheels) take its label without being measured [m].
+  double vehicle_length_m = 3.0;
+  int absorb_max_pixels = 60;           ///< size bound of such a wheel cluster [pixels]
+  double max_yaw_rate_rps = 1.5;        ///< bound of a track's yaw rate [rad/s]
   int confirm_hits = 3;                 ///< hysteresis: updates before a track may carry labels
   int max_misses = 5;                   ///< frames a track survives without a cluster
   double carry_min_speed_mps = 0.8;     ///< a confirmed track carries "moving" while faster than this

@@ -48,6 +48,7 @@ struct ObjectMatch {
   /// From a tracking method (NaN otherwise): the track's box centre and yaw rate.
   Eigen::Vector3d estimate_centre_m = Eigen::Vector3d::Constant(core::VelocityEstimate::kNaN);
   double estimate_yaw_rate_rps = core::VelocityEstimate::kNaN;
+  std::int32_t estimate_track_id = 0;  ///< the cluster's track (0: untracked)
 
   /// estimate - truth_mean (NaN unless estimate_valid) [m/s]
   Eigen::Vector3d error_mps() const { return estimate_mps - truth_mean_mps; }
@@ -75,19 +76,27 @@ struct InstanceCounts {
 InstanceCounts count_instances(const core::PixelGroundTruth& gt, const std::vector<std::uint8_t>& valid,
                                const core::MotionEstimate& estimate, const ObjectMatchParams& params = {});
 
-/// One moving actor's pixels inside the Doppler blind band in one frame: truly moving pixels
-/// whose own motion along the beam, |e . v_true|, is below the band (a single scan cannot tell
-/// them from the static world), and how many of them the method labelled moving.
+/// One moving actor's pixels inside the Doppler blind band in one frame. A truly moving pixel is
+/// in the band when the actor's rigid-body motion at that point, v + omega x (p - c), has a
+/// component along the beam below the band (a single scan cannot tell it from the static world):
+/// the blind zone of the object's motion. Parts that move on their own (wheels, swinging limbs)
+/// have pixels whose own motion is in the band wherever the body is: at the contact patch of
+/// every rolling wheel. Those are counted apart (part_band_*), since no choice of heading puts
+/// them in or out of the band.
 struct BlindBandActor {
   std::uint32_t actor_id = 0;
   int band_pixels = 0;
   int band_detected = 0;
-  int visible_pixels = 0;  ///< truly moving pixels outside the band
+  int visible_pixels = 0;       ///< truly moving pixels whose body motion is outside the band
+  int part_band_pixels = 0;     ///< ... of which their own motion is inside it (wheels, limbs)
+  int part_band_detected = 0;
 };
 
-/// Actors with truly moving pixels, in increasing id order. band_mps > 0.
+/// Actors with truly moving pixels, in increasing id order. band_mps > 0. Throws
+/// std::invalid_argument when a pixel's instance is missing from truth.actors.
 std::vector<BlindBandActor> blind_band_actors(const core::Scan& scan, const core::PixelGroundTruth& gt,
-                                              const core::MotionEstimate& estimate, double band_mps);
+                                              const core::FrameTruth& truth, const core::MotionEstimate& estimate,
+                                              double band_mps);
 
 /// Every actor with a valid pixel in the frame, in increasing id order. Throws
 /// std::invalid_argument when an array does not hold one value per pixel, when a pixel's

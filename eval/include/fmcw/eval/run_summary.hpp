@@ -59,6 +59,11 @@ struct MethodSummary {
   std::uint64_t blind_band_pixels = 0;
   std::uint64_t blind_band_detected = 0;
   double blind_recall_tracked = 0.0;  ///< detected / band pixels (NaN when there are none)
+  /// Pixels of the same actors whose own motion is in the band while their body's is not
+  /// (wheels, limbs: BlindBandActor::part_band_pixels), and how many were labelled moving.
+  std::uint64_t blind_part_pixels = 0;
+  std::uint64_t blind_part_detected = 0;
+  double blind_part_recall = 0.0;
 
   core::StageTiming mean_timing_ms;  ///< mean per frame
   core::StageTiming max_timing_ms;   ///< worst frame
