@@ -5,6 +5,7 @@
 
 #include "fmcw/eval/frame_evaluation.hpp"
 #include "fmcw/eval/object_matching.hpp"
+#include "fmcw/core/synthetic_scan.hpp"
 
 namespace fmcw::eval {
 namespace {
@@ -109,6 +110,74 @@ TEST(ObjectMatching, InconsistentTruthOrEstimateThrows) {
   Case e;
   e.estimate.labels.pop_back();
   EXPECT_THROW(match_objects(e.gt, e.valid, e.truth, e.estimate), std::invalid_argument);
+}
+
+
+// The blind band on a rendered scene: a box crossing the x axis 40 m ahead (its body's motion
+// along every beam below 0.06 m/s, from any head: in the band) and one driving off to the side,
+// whose lowest pixels are given the zero velocity of a rolling wheel's contact patch.
+TEST(BlindBand, JudgedByTheBodysMotionWithRollingPartsCountedApart) {
+  core::SyntheticSceneParams p;
+  core::SyntheticBox crossing;
+  crossing.center_m = Eigen::Vector3d(40.0, 0.0, 0.8);
+  crossing.half_extent_m = Eigen::Vector3d(0.3, 0.3, 0.8);
+  crossing.velocity_mps = Eigen::Vector3d(0.0, 1.5, 0.0);
+  core::SyntheticBox driving = crossing;
+  driving.center_m = Eigen::Vector3d(20.0, 8.0, 0.8);
+  driving.half_extent_m = Eigen::Vector3d(0.9, 0.9, 0.8);
+  driving.velocity_mps = Eigen::Vector3d(5.0, 0.0, 0.0);
+  p.actors = {crossing, driving};
+  core::Frame f = core::render_synthetic_scan(p);
+  core::PixelGroundTruth& gt = *f.truth;
+  core::FrameTruth truth;
+  for (std::uint32_t id = 1; id <= 2; ++id) {
+    core::ActorTruth a;
+    a.id = id;
+    a.class_name = "car";
+    a.position_rig_m = p.actors[id - 1].center_m;
+    a.velocity_rig_mps = p.actors[id - 1].velocity_mps;
+    truth.actors.push_back(a);
+  }
+  core::MotionEstimate estimate;
+  estimate.labels.assign(f.scan.size(), 0);
+  int crossing_pixels = 0, driving_pixels = 0, wheel_pixels = 0, crossing_labelled = 0, wheels_labelled = 0;
+  for (std::size_t i = 0; i < f.scan.size(); ++i) {
+    if (!f.scan.valid[i] || gt.instance[i] == 0) continue;
+    ASSERT_TRUE(gt.moving[i]);
+    if (gt.instance[i] == 1) {
+      ++crossing_pixels;
+      if (crossing_pixels % 4 != 0) {  // three in four labelled moving
+        estimate.labels[i] = 1;
+        ++crossing_labelled;
+      }
+      continue;
+    }
+    ++driving_pixels;
+    if (f.scan.position(i).z() < 0.3) {  // the contact patch: its own velocity is zero
+      gt.vx_mps[i] = gt.vy_mps[i] = gt.vz_mps[i] = 0.0f;
+      ++wheel_pixels;
+      if (wheel_pixels % 2 == 0) {
+        estimate.labels[i] = 2;
+        ++wheels_labelled;
+      }
+    }
+  }
+  ASSERT_GT(crossing_pixels, 30);
+  ASSERT_GT(wheel_pixels, 10);
+  const std::vector<BlindBandActor> band = blind_band_actors(f.scan, gt, truth, estimate, 0.15);
+  ASSERT_EQ(band.size(), 2u);
+  EXPECT_EQ(band[0].actor_id, 1u);
+  EXPECT_EQ(band[0].band_pixels, crossing_pixels);
+  EXPECT_EQ(band[0].band_detected, crossing_labelled);
+  EXPECT_EQ(band[0].visible_pixels, 0);
+  EXPECT_EQ(band[1].band_pixels, 0);  // the body drives away from the beams
+  EXPECT_EQ(band[1].visible_pixels, driving_pixels);
+  EXPECT_EQ(band[1].part_band_pixels, wheel_pixels);
+  EXPECT_EQ(band[1].part_band_detected, wheels_labelled);
+
+  truth.actors.pop_back();  // pixels of an actor the truth does not list
+  EXPECT_THROW(blind_band_actors(f.scan, gt, truth, estimate, 0.15), std::invalid_argument);
+  EXPECT_THROW(blind_band_actors(f.scan, gt, core::FrameTruth{}, estimate, 0.0), std::invalid_argument);
 }
 
 }  // namespace
