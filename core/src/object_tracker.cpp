@@ -27,8 +27,10 @@ void TrackerParams::validate() const {
                  "tracking: process noise must be > 0");
   FMCW_CHECK_ARG(initial_yaw_rate_sigma_rps > 0.0 && max_initial_velocity_sigma_mps > 0.0,
                  "tracking: initial uncertainties must be > 0");
-  FMCW_CHECK_ARG(min_turn_rate_rps >= 0.0 && turn_significance >= 0.0,
-                 "tracking: min_turn_rate_rps and turn_significance must be >= 0");
+  FMCW_CHECK_ARG(min_turn_rate_rps >= 0.0 && turn_significance >= turn_release_significance &&
+                     turn_release_significance >= 0.0 && min_turn_hits >= 1,
+                 "tracking: min_turn_rate_rps must be >= 0, turn_significance >= turn_release_significance >= 0, "
+                 "min_turn_hits >= 1");
   FMCW_CHECK_ARG(gate_m >= 0.0 && claim_margin_m >= 0.0,
                  "tracking: gate_m and claim_margin_m must be >= 0");
   FMCW_CHECK_ARG(min_cluster_pixels >= 3, "tracking: min_cluster_pixels must be >= 3, got ",
@@ -493,6 +495,15 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     }
     if (tr.hits >= p.confirm_hits) tr.confirmed = true;
     tr.slow_frames = tr.velocity().norm() < p.carry_min_speed_mps ? tr.slow_frames + 1 : 0;
+    // Turning once the yaw rate is resolved on a track of some age; still turning while it
+    // stays above the minimum and turn_release_significance (the box centre of a near car jumps as its visible side
+    // changes, the position updates are then down-weighted and the yaw rate's variance grows
+    // for a while, not its value).
+    const double w = std::abs(tr.yaw_rate());
+    const double w_sigma = std::sqrt(std::max(0.0, tr.P(4, 4)));
+    tr.turning = w >= p.min_turn_rate_rps &&
+                 (tr.turning ? w >= p.turn_release_significance * w_sigma
+                             : tr.hits >= p.min_turn_hits && w >= p.turn_significance * w_sigma);
   }
 
   // New tracks from the clusters no track took.
@@ -651,9 +662,7 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     const Eigen::Vector2d d = o_mean - tr.centre();
     Eigen::Matrix<double, 2, 3> J;
     J << 1.0, 0.0, -d.y(), 0.0, 1.0, d.x();
-    const double w_sigma = std::sqrt(std::max(0.0, tr.P(4, 4)));
-    const bool turning = std::abs(tr.yaw_rate()) >= p.min_turn_rate_rps &&
-                         std::abs(tr.yaw_rate()) >= p.turn_significance * w_sigma;
+    const bool turning = tr.turning;
     Eigen::Vector2d vel = tr.velocity();
     Eigen::Matrix2d cov = tr.P.block<2, 2>(2, 2);
     // A small object's Doppler pins only its radial velocity, the same for v and for

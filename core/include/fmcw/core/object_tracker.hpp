@@ -39,11 +39,16 @@ struct TrackerParams {
   double accel_sigma_mps2 = 2.5;        ///< constant-turn-rate model: acceleration noise [m/s^2]
   double yaw_accel_sigma_rps2 = 0.8;    ///< yaw acceleration noise [rad/s^2]
   double initial_yaw_rate_sigma_rps = 0.4;
-  /// A track counts as turning (its velocity reported at its centre with the yaw rate) when
-  /// |omega| exceeds both of these; otherwise the velocity reported is the one its Doppler
-  /// field shows, with yaw rate 0.
+  /// A track starts turning (its velocity reported at its centre with the yaw rate) when
+  /// |omega| exceeds min_turn_rate_rps and turn_significance standard deviations after at
+  /// least min_turn_hits updates (a young track's yaw rate follows its box as more of the
+  /// object comes into view), and stops when |omega| falls below min_turn_rate_rps or
+  /// turn_release_significance standard deviations. Otherwise the velocity reported is the one
+  /// its Doppler field shows, with yaw rate 0.
   double min_turn_rate_rps = 0.05;
   double turn_significance = 3.0;
+  double turn_release_significance = 2.0;
+  int min_turn_hits = 5;
   double max_initial_velocity_sigma_mps = 6.0;  ///< caps the unobservable direction at birth
   double gate_m = 2.0;                  ///< association: cluster centroid within the predicted box grown by this [m]
   int min_cluster_pixels = 8;           ///< smaller clusters neither start nor update tracks
@@ -93,6 +98,7 @@ struct Track {
   int misses = 0;            ///< consecutive frames without one
   int slow_frames = 0;       ///< consecutive frames slower than carry_min_speed_mps
   bool confirmed = false;    ///< hits >= confirm_hits at some point
+  bool turning = false;      ///< yaw rate resolved (see TrackerParams::turn_significance)
 
   Eigen::Vector2d centre() const { return x.head<2>(); }
   Eigen::Vector2d velocity() const { return x.segment<2>(2); }
