@@ -115,7 +115,8 @@ TEST(ObjectMatching, InconsistentTruthOrEstimateThrows) {
 
 // The blind band on a rendered scene: a box crossing the x axis 40 m ahead (its body's motion
 // along every beam below 0.06 m/s, from any head: in the band) and one driving off to the side,
-// whose lowest pixels are given the zero velocity of a rolling wheel's contact patch.
+// whose lowest pixels are given the vertical velocity of the front and back of a rolling wheel
+// (across the near-horizontal beams: their own motion is in the band, the body's is not).
 TEST(BlindBand, JudgedByTheBodysMotionWithRollingPartsCountedApart) {
   core::SyntheticSceneParams p;
   core::SyntheticBox crossing;
@@ -153,8 +154,9 @@ TEST(BlindBand, JudgedByTheBodysMotionWithRollingPartsCountedApart) {
       continue;
     }
     ++driving_pixels;
-    if (f.scan.position(i).z() < 0.3) {  // the contact patch: its own velocity is zero
-      gt.vx_mps[i] = gt.vy_mps[i] = gt.vz_mps[i] = 0.0f;
+    if (f.scan.position(i).z() < 0.3) {  // a wheel's front or back: moving up or down
+      gt.vx_mps[i] = gt.vy_mps[i] = 0.0f;
+      gt.vz_mps[i] = 1.0f;
       ++wheel_pixels;
       if (wheel_pixels % 2 == 0) {
         estimate.labels[i] = 2;

@@ -36,6 +36,11 @@ def test_ego_velocity_and_moving_object(method):
     assert obj["velocity"][0] == pytest.approx(truth["obj"][0], abs=0.1)
     np.testing.assert_array_equal(result.instances, np.where(truth["moving"], obj["id"], 0))
     assert obj["centroid"][0] == pytest.approx(15.0, abs=0.01)
+    # Only the tracking method gives the object a track (born on this first frame), a box centre
+    # and a yaw rate.
+    assert (obj["track_id"] > 0) == (method == "tracked")
+    assert obj["track_hits"] == (1 if method == "tracked" else 0)
+    assert np.isfinite(obj["centre"]).all() == (method == "tracked")
     assert set(result.timing) == {"clustering_ms", "ego_ms", "objects_ms", "total_ms"}
 
 

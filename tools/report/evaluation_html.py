@@ -67,6 +67,8 @@ def _summary_rows(data):
     add("blind-band pixels of objects seen moving before", [fmt(int(v)) for v in get("blind_zone.band_pixels")])
     add("recall inside the blind band (tracked)", [fmt(v, 4) for v in get("blind_zone.recall_tracked")],
         f"≥ {t['min_blind_recall']}", "blind_zone_recall_tracked")
+    add("… their wheel and limb pixels in the band while the body is not (count / labelled moving)",
+        [f"{fmt(int(n))} / {fmt(v, 4)}" for n, v in zip(get("blind_zone.part_pixels"), get("blind_zone.part_recall"))])
     add(f"object-frames with ≥ {large} points", [fmt(int(v)) for v in get("objects.large")])
     for stage in ["clustering", "ego", "objects", "total"]:
         add(f"time {stage} [ms/frame, mean]", [fmt(v, 3) for v in get(f"timing_ms.{stage}")])

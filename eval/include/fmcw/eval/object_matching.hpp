@@ -80,9 +80,9 @@ InstanceCounts count_instances(const core::PixelGroundTruth& gt, const std::vect
 /// in the band when the actor's rigid-body motion at that point, v + omega x (p - c), has a
 /// component along the beam below the band (a single scan cannot tell it from the static world):
 /// the blind zone of the object's motion. Parts that move on their own (wheels, swinging limbs)
-/// have pixels whose own motion is in the band wherever the body is: at the contact patch of
-/// every rolling wheel. Those are counted apart (part_band_*), since no choice of heading puts
-/// them in or out of the band.
+/// have pixels whose own motion is in the band wherever the body is: the front and back of
+/// every rolling wheel move up and down, across the beams. Those are counted apart
+/// (part_band_*), since no choice of heading puts them in or out of the band.
 struct BlindBandActor {
   std::uint32_t actor_id = 0;
   int band_pixels = 0;
