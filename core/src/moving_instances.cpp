@@ -10,6 +10,33 @@ void InstanceParams::validate() const {
   FMCW_CHECK_ARG(max_range_gap_m > 0.0 && range_gap_fraction >= 0.0 && max_doppler_step_mps > 0.0 && touching_gap_m >= 0.0,
                  "instances: gaps and steps must be positive");
   FMCW_CHECK_ARG(min_cluster_pixels >= 1, "instances: min_cluster_pixels must be >= 1, got ", min_cluster_pixels);
+  FMCW_CHECK_ARG(edge_flatness >= 0.0 && edge_flatness < 1.0, "instances: edge_flatness must be in [0, 1), got ",
+                 edge_flatness);
+}
+
+bool is_occlusion_edge(const Scan& scan, const std::vector<int>& group_of, int r, int c, int dr, int dc,
+                       const InstanceParams& params) {
+  if (params.edge_flatness <= 0.0) return false;
+  // Range of the pixel (rr, cc) when it is valid and on column c's side of any seam.
+  const auto range_at = [&](int rr, int cc, double& out) {
+    if (rr < 0 || rr >= scan.rows || cc < 0 || cc >= scan.cols) return false;
+    if (group_of[static_cast<std::size_t>(cc)] != group_of[static_cast<std::size_t>(c)]) return false;
+    const std::size_t i = scan.index(rr, cc);
+    if (!scan.valid[i]) return false;
+    out = scan.range_m[i];
+    return true;
+  };
+  // The runs go along the row when the pair spans columns (a diagonal pair at the top of a body
+  // would otherwise run off it into the background), along the column otherwise.
+  const int run_r = dc != 0 ? 0 : dr;
+  double ra = 0.0, rb = 0.0, before = 0.0, after = 0.0;
+  if (!range_at(r, c, ra) || !range_at(r + dr, c + dc, rb) || !range_at(r - run_r, c - dc, before) ||
+      !range_at(r + dr + run_r, c + 2 * dc, after))
+    return false;
+  const double step = std::abs(ra - rb);
+  if (step < params.touching_gap_m) return false;
+  const double flat = params.edge_flatness * step;
+  return std::abs(ra - before) < flat && std::abs(after - rb) < flat;
 }
 
 Segmentation label_moving_instances(const Scan& scan, const std::vector<std::uint8_t>& moving, const InstanceParams& params) {
@@ -25,12 +52,15 @@ Segmentation label_moving_instances(const Scan& scan, const std::vector<std::uin
   for (std::size_t g = 0; g < groups.size(); ++g) {
     for (int c = groups[g].first; c < groups[g].second; ++c) group_of[static_cast<std::size_t>(c)] = static_cast<int>(g);
   }
-  const auto joins = [&](std::size_t a, std::size_t b) {
+  // a = (r, c), b = (r + dr, c + dc): neighbours.
+  const auto joins = [&](std::size_t a, std::size_t b, int r, int c, int dr, int dc) {
     const double ra = scan.range_m[a], rb = scan.range_m[b];
-    const double dr = std::abs(ra - rb);
-    if (dr < params.touching_gap_m) return true;
+    const double step = std::abs(ra - rb);
+    if (step < params.touching_gap_m) return true;
     const double gap = std::max(params.max_range_gap_m, params.range_gap_fraction * std::min(ra, rb));
-    return dr < gap && std::abs(scan.radial_velocity_mps[a] - scan.radial_velocity_mps[b]) < params.max_doppler_step_mps;
+    if (step >= gap || std::abs(scan.radial_velocity_mps[a] - scan.radial_velocity_mps[b]) >= params.max_doppler_step_mps)
+      return false;
+    return !is_occlusion_edge(scan, group_of, r, c, dr, dc, params);
   };
   constexpr std::int32_t kPending = -3;
   std::vector<std::int32_t> region(scan.size(), -1);
@@ -57,7 +87,7 @@ Segmentation label_moving_instances(const Scan& scan, const std::vector<std::uin
           if ((dr == 0 && dc == 0) || rr < 0 || rr >= scan.rows || cc < 0 || cc >= scan.cols) continue;
           if (group_of[static_cast<std::size_t>(cc)] != group_of[static_cast<std::size_t>(c)]) continue;
           const std::size_t nq = scan.index(rr, cc);
-          if (region[nq] != kPending || !joins(q, nq)) continue;
+          if (region[nq] != kPending || !joins(q, nq, r, c, dr, dc)) continue;
           region[nq] = next;
           stack.push_back(static_cast<std::uint32_t>(nq));
         }

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -127,6 +128,49 @@ TEST(RobustMethod, CarsSideBySideAtOneSpeedAreTwoInstancesAndATouchingPartStaysW
   EXPECT_GT(*labels[1].begin(), 0);
   ASSERT_FALSE(labels[3].empty()) << "the wheel must be visible for this test";
   EXPECT_EQ(labels[3], labels[1]) << "the wheel belongs to its car";
+}
+
+TEST(RobustMethod, AWalkerBehindAnotherIsASecondInstanceAndAGrazingSideStaysOne) {
+  // Two walkers at one speed, the second 0.8 m further out along nearly the same beams, so the
+  // first hides part of it: one range step between two flat runs, within the range gap that
+  // keeps grazing surfaces whole. A bus 12 m long whose side the beams meet at about 85 degrees
+  // (its range steps about 0.3 m from pixel to pixel along the row) must stay one object.
+  SyntheticSceneParams p = fmcw::test::static_courtyard();
+  SyntheticBox near;
+  near.center_m = {16.0, 0.0, 0.9};  // straight ahead: the boxes' flat sides are seen edge-on
+  near.half_extent_m = {0.25, 0.3, 0.9};
+  near.velocity_mps = {1.4, 0.0, 0.0};  // walking away, side by side in file
+  SyntheticBox far = near;
+  far.center_m = {16.8, 0.35, 0.8};  // shorter: box tops at one height would touch in range
+  far.half_extent_m.z() = 0.8;
+  SyntheticBox bus;
+  bus.center_m = {20.0, -3.0, 1.5};
+  bus.half_extent_m = {6.0, 1.25, 1.5};
+  bus.velocity_mps = {6.0, 0.0, 0.0};
+  p.actors = {near, far, bus};
+  const Frame frame = render_synthetic_scan(p);
+  const auto labels_of = [&](const MotionEstimate& est) {
+    std::map<std::uint32_t, std::map<std::int32_t, int>> labels;
+    for (std::size_t i = 0; i < frame.scan.size(); ++i) {
+      if (frame.truth->instance[i] != 0 && frame.scan.valid[i]) ++labels[frame.truth->instance[i]][est.labels[i]];
+    }
+    return labels;
+  };
+  const auto main_label = [](const std::map<std::int32_t, int>& counts) {
+    return std::max_element(counts.begin(), counts.end(), [](auto& a, auto& b) { return a.second < b.second; })->first;
+  };
+  auto labels = labels_of(robust(frame.scan));
+  ASSERT_GT(labels[2].size(), 0u) << "the far walker must be visible for this test";
+  EXPECT_GT(main_label(labels[1]), 0);
+  EXPECT_GT(main_label(labels[2]), 0);
+  EXPECT_NE(main_label(labels[1]), main_label(labels[2])) << "a walker behind another is a second object";
+  EXPECT_EQ(labels[3].size(), 1u) << "the bus's grazing side stays one object";
+  EXPECT_GT(main_label(labels[3]), 0);
+
+  MotionPipelineParams without = MotionPipelineParams::preset("robust");
+  without.instances.edge_flatness = 0.0;  // the range gap alone joins the two walkers
+  labels = labels_of(MotionPipeline(without).process(frame.scan));
+  EXPECT_EQ(main_label(labels[1]), main_label(labels[2]));
 }
 
 TEST(PlanarRobustVelocity, TorsoOutvotesSwingingLimbs) {
