@@ -291,9 +291,13 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
       return da != db ? da < db : a < b;
     });
     const bool vehicle = tracks_[t].length_m >= p.vehicle_length_m;
+    const bool small = std::max(tracks_[t].length_m, tracks_[t].width_m) < p.small_object_m;
     for (std::size_t n = 0; n < mine.size(); ++n) {
       const std::size_t c = mine[n];
-      if (n > 0 && !boxes[t].contains(cluster_centroid[c], vehicle ? p.gate_m : p.claim_margin_m)) {
+      // A walker's second cluster is a limb or a sliver beside an occluder, much smaller than
+      // its body: one of comparable size is the walker beside it.
+      const bool limb = !small || cluster_pixels[c].size() * 3 <= cluster_pixels[mine.front()].size();
+      if (n > 0 && (!limb || !boxes[t].contains(cluster_centroid[c], vehicle ? p.gate_m : p.claim_margin_m))) {
         owner[c] = -1;
         continue;
       }
@@ -389,7 +393,8 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
         tr.length_m = std::min(resize ? a1 - a0 : std::max(tr.length_m, a1 - a0), p.max_length_m);
         tr.width_m = std::min(resize ? b1 - b0 : std::max(tr.width_m, b1 - b0), p.max_width_m);
         tr.z_min_m = zmin;  // this frame's: the ground under an object changes at curbs
-        tr.z_max_m = zmax;
+        // A walker inside the band shows only its swinging limbs: its top stays where it was.
+        tr.z_max_m = small_track && !born ? std::max(zmax, tr.z_max_m) : zmax;
       }
       const Eigen::Vector2d s = position_ - ref;  // the sensor, relative to ref
       auto anchor = [](double lo, double hi, double size, double sensor) {
