@@ -294,10 +294,11 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     const bool small = std::max(tracks_[t].length_m, tracks_[t].width_m) < p.small_object_m;
     for (std::size_t n = 0; n < mine.size(); ++n) {
       const std::size_t c = mine[n];
-      // A walker's second cluster is a limb or a sliver beside an occluder, much smaller than
-      // its body: one of comparable size is the walker beside it.
+      // A walker's second cluster is a limb, much smaller than its body, or a piece of it inside
+      // its box; one of comparable size beside the box is the walker next to it.
       const bool limb = !small || cluster_pixels[c].size() * 3 <= cluster_pixels[mine.front()].size();
-      if (n > 0 && (!limb || !boxes[t].contains(cluster_centroid[c], vehicle ? p.gate_m : p.claim_margin_m))) {
+      const double grow = vehicle ? p.gate_m : limb ? p.claim_margin_m : 0.0;
+      if (n > 0 && !boxes[t].contains(cluster_centroid[c], grow)) {
         owner[c] = -1;
         continue;
       }
