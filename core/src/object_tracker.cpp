@@ -40,8 +40,7 @@ void TrackerParams::validate() const {
   FMCW_CHECK_ARG(associate_doppler_tolerance_mps > 0.0 && absorb_max_pixels >= 0 && max_yaw_rate_rps > 0.0 &&
                      vehicle_length_m > 0.0 && claim_position_sigma_m > 0.0,
                  "tracking: associate_doppler_tolerance_mps, max_yaw_rate_rps, vehicle_length_m and "
-                 "claim_position_sigma_m must be > 0, "
-                 "absorb_max_pixels >= 0");
+                 "claim_position_sigma_m must be > 0, absorb_max_pixels >= 0");
   FMCW_CHECK_ARG(claim_doppler_tolerance_mps > 0.0,
                  "tracking: claim_doppler_tolerance_mps must be > 0");
   FMCW_CHECK_ARG(max_length_m > 0.0 && max_width_m > 0.0, "tracking: box size caps must be > 0");
@@ -55,6 +54,12 @@ namespace {
 using Vec5 = Eigen::Matrix<double, 5, 1>;
 using Mat5 = Eigen::Matrix<double, 5, 5>;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The upper median of v (reordered in place); v must not be empty.
+double upper_median(std::vector<double>& v) {
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
 
 Eigen::Matrix2d rotation(double yaw) {
   Eigen::Matrix2d r;
@@ -246,8 +251,7 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
       const Row r = row_of(px[n]);
       dev.push_back(std::abs(r.y - predicted(r, tr.x)));
     }
-    std::nth_element(dev.begin(), dev.begin() + static_cast<std::ptrdiff_t>(dev.size() / 2), dev.end());
-    return dev[dev.size() / 2];
+    return upper_median(dev);
   };
   for (std::size_t c = 0; c < k; ++c) {
     if (static_cast<int>(cluster_pixels[c].size()) < p.min_cluster_pixels) continue;
@@ -269,7 +273,7 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
           owner[c] = static_cast<int>(t);
         }
       } else if (static_cast<int>(cluster_pixels[c].size()) <= p.absorb_max_pixels &&
-                 tracks_[t].length_m >= p.vehicle_length_m &&
+                 tracks_[t].vehicle(p) &&
                  boxes[t].contains(cluster_centroid[c], p.claim_margin_m) && d < best_absorb) {
         best_absorb = d;
         absorbed[c] = static_cast<int>(t);
@@ -290,8 +294,8 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
       const double db = boxes[t].distance(cluster_centroid[b]);
       return da != db ? da < db : a < b;
     });
-    const bool vehicle = tracks_[t].length_m >= p.vehicle_length_m;
-    const bool small = std::max(tracks_[t].length_m, tracks_[t].width_m) < p.small_object_m;
+    const bool vehicle = tracks_[t].vehicle(p);
+    const bool small = tracks_[t].small(p);
     for (std::size_t n = 0; n < mine.size(); ++n) {
       const std::size_t c = mine[n];
       // A walker's second cluster is a limb, much smaller than its body, or a piece of it inside
@@ -363,7 +367,7 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     std::size_t own = born || static_cast<std::size_t>(g.claimed) <= found ? found : 0;
     // A small object wholly inside the band (a walker crossing the beams) is found by its claims
     // alone; they lie in its predicted box, which is tight, and give its centre (not its size).
-    const bool small_track = std::max(tr.length_m, tr.width_m) < p.small_object_m;
+    const bool small_track = tr.small(p);
     const bool centre_from_claims = !born && found == 0 && g.claimed > 0 && small_track;
     const std::size_t first = centre_from_claims ? found : 0;
     if (centre_from_claims) own = g.pixels.size();
@@ -420,17 +424,12 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
       rows[n].residual = rows[n].y - predicted(rows[n], tr.x);
       dev[n] = rows[n].residual;
     }
-    std::nth_element(dev.begin(), dev.begin() + static_cast<std::ptrdiff_t>(dev.size() / 2),
-                     dev.end());
-    const double med = dev[dev.size() / 2];
+    const double med = upper_median(dev);
     for (double& d : dev) d = std::abs(d - med);
-    std::nth_element(dev.begin(), dev.begin() + static_cast<std::ptrdiff_t>(dev.size() / 2),
-                     dev.end());
-    const double cut =
-        std::max(p.outlier_floor_mps, p.outlier_sigmas * 1.4826 * dev[dev.size() / 2]);
+    const double cut = std::max(p.outlier_floor_mps, p.outlier_sigmas * 1.4826 * upper_median(dev));
     std::size_t used = 0;
     for (const Row& r : rows) used += std::abs(r.residual - med) <= cut ? 1 : 0;
-    const bool small = std::max(tr.length_m, tr.width_m) < p.small_object_m;
+    const bool small = tr.small(p);  // the box may just have been measured
     Mat5 info = Mat5::Zero();
     Vec5 grad = Vec5::Zero();
     const Vec5& x = tr.x;
@@ -502,9 +501,9 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     if (tr.hits >= p.confirm_hits) tr.confirmed = true;
     tr.slow_frames = tr.velocity().norm() < p.carry_min_speed_mps ? tr.slow_frames + 1 : 0;
     // Turning once the yaw rate is resolved on a track of some age; still turning while it
-    // stays above the minimum and turn_release_significance (the box centre of a near car jumps as its visible side
-    // changes, the position updates are then down-weighted and the yaw rate's variance grows
-    // for a while, not its value).
+    // stays above the minimum and turn_release_significance standard deviations (the box
+    // centre of a near car jumps as its visible side changes, the position updates are then
+    // down-weighted and the yaw rate's variance grows for a while, not its value).
     const double w = std::abs(tr.yaw_rate());
     const double w_sigma = std::sqrt(std::max(0.0, tr.P(4, 4)));
     tr.turning = w >= p.min_turn_rate_rps &&
@@ -555,7 +554,7 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     tr.P.block<2, 1>(2, 4) = -s0 * s0 * sv;
     tr.P.block<1, 2>(4, 2) = -s0 * s0 * sv.transpose();
     tr.P(4, 4) = s0 * s0;
-    if (std::max(tr.length_m, tr.width_m) < p.small_object_m && d.norm() > 0.0) {
+    if (tr.small(p) && d.norm() > 0.0) {
       // A small object: its single-scan tangential velocity is not to be trusted (see
       // small_object_m). Prior: the radial part as measured, the tangential part unknown, the
       // yaw rate unrelated to either (a small object's Doppler does not see it).
@@ -668,15 +667,13 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     const Eigen::Vector2d d = o_mean - tr.centre();
     Eigen::Matrix<double, 2, 3> J;
     J << 1.0, 0.0, -d.y(), 0.0, 1.0, d.x();
-    const bool turning = tr.turning;
     Eigen::Vector2d vel = tr.velocity();
     Eigen::Matrix2d cov = tr.P.block<2, 2>(2, 2);
     // A small object's Doppler pins only its radial velocity, the same for v and for
     // v + omega z x (o - c): the track's own velocity is the better guess either way.
-    const bool small = std::max(tr.length_m, tr.width_m) < p.small_object_m;
-    if (!turning && small) {
+    if (!tr.turning && tr.small(p)) {
       ce.yaw_rate_rps = 0.0;
-    } else if (!turning) {
+    } else if (!tr.turning) {
       vel = J * tr.x.segment<3>(2);
       cov = J * tr.P.block<3, 3>(2, 2) * J.transpose();
       ce.yaw_rate_rps = 0.0;

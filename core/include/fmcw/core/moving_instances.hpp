@@ -17,9 +17,9 @@ struct InstanceParams {
   double range_gap_fraction = 0.08;    ///< range-relative part of the gap above
   double max_doppler_step_mps = 1.0;   ///< [m/s]
   double touching_gap_m = 0.5;         ///< |dr| below this joins whatever the Doppler (wheels, limbs) [m]
-  /// A larger step between two neighbours does not join them when the range changes by less
-  /// than this fraction of the step from each to its next pixel on the same line, away from the
-  /// other: a step between two flat runs is the edge of one body in front of another, not a
+  /// A larger step between two neighbours does not join them when it lies between two flat
+  /// runs (see is_occlusion_edge): the range changes by less than this fraction of the step from
+  /// each to the next pixel beyond it. That is the edge of one body in front of another, not a
   /// surface seen at a grazing angle. 0 turns the test off.
   double edge_flatness = 0.3;
   int min_cluster_pixels = 3;          ///< smaller groups of moving pixels are labelled static
@@ -35,9 +35,9 @@ struct InstanceParams {
 /// Whether the neighbours (r, c) and (r + dr, c + dc) lie across the edge of one body in front
 /// of another: a range step of at least touching_gap_m between two flat runs (the next pixel
 /// beyond each, along the row when the pair spans columns, changes by less than edge_flatness
-/// times the step). A surface at a
-/// grazing angle steps about evenly instead. group_of: column group of each column (pixels
-/// across a seam are not on one line). False when a pixel is missing or the test is off.
+/// times the step). A surface at a grazing angle steps about evenly instead. group_of: column
+/// group of each column (pixels across a seam are not on one line). False when a pixel is
+/// missing or the test is off.
 bool is_occlusion_edge(const Scan& scan, const std::vector<int>& group_of, int r, int c, int dr, int dc,
                        const InstanceParams& params);
 

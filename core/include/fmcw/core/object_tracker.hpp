@@ -3,6 +3,7 @@
 // rate, objects inside the Doppler blind band), several scans can.
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -103,6 +104,10 @@ struct Track {
   Eigen::Vector2d centre() const { return x.head<2>(); }
   Eigen::Vector2d velocity() const { return x.segment<2>(2); }
   double yaw_rate() const { return x(4); }
+  /// Box under small_object_m on both axes (a walker): see TrackerParams::small_object_m.
+  bool small(const TrackerParams& p) const { return std::max(length_m, width_m) < p.small_object_m; }
+  /// At least vehicle_length_m long: see TrackerParams::vehicle_length_m.
+  bool vehicle(const TrackerParams& p) const { return length_m >= p.vehicle_length_m; }
   /// Confirmed, recently seen and moving: its pixels stay "moving" inside the blind band.
   bool carries(const TrackerParams& p) const {
     return confirmed && slow_frames < p.release_slow_frames && misses <= p.max_misses;
