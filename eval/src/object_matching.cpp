@@ -22,6 +22,22 @@ struct ActorPixels {
   int moving = 0;
   std::map<std::int32_t, ClusterShare> clusters;  // label -> share; ordered for deterministic ties
 };
+// The frame's truth of each actor id; `who` names the caller in the error for an id it lacks.
+class ActorIndex {
+ public:
+  ActorIndex(const core::FrameTruth& truth, const char* who) : who_(who) {
+    for (const core::ActorTruth& a : truth.actors) actors_[a.id] = &a;
+  }
+  const core::ActorTruth& operator[](std::uint32_t id) const {
+    const auto it = actors_.find(id);
+    FMCW_CHECK_ARG(it != actors_.end(), who_, ": pixels hit actor ", id, " but the frame's truth lists no such actor");
+    return *it->second;
+  }
+
+ private:
+  std::map<std::uint32_t, const core::ActorTruth*> actors_;
+  const char* who_;
+};
 }  // namespace
 
 std::vector<ObjectMatch> match_objects(const core::PixelGroundTruth& gt, const std::vector<std::uint8_t>& valid,
@@ -46,13 +62,10 @@ std::vector<ObjectMatch> match_objects(const core::PixelGroundTruth& gt, const s
     }
   }
 
-  std::map<std::uint32_t, const core::ActorTruth*> actors;
-  for (const core::ActorTruth& a : truth.actors) actors[a.id] = &a;
+  const ActorIndex actors(truth, "match_objects");
   std::vector<ObjectMatch> out;
   for (const auto& [id, a] : seen) {
-    const auto it = actors.find(id);
-    FMCW_CHECK_ARG(it != actors.end(), "match_objects: pixels hit actor ", id, " but the frame's truth lists no such actor");
-    const core::ActorTruth& t = *it->second;
+    const core::ActorTruth& t = actors[id];
     ObjectMatch m;
     m.actor_id = id;
     m.class_name = t.class_name;
@@ -140,17 +153,13 @@ std::vector<BlindBandActor> blind_band_actors(const core::Scan& scan, const core
   gt.validate(n);
   FMCW_CHECK_ARG(estimate.labels.size() == n, "blind band: estimate has ", estimate.labels.size(), " labels for ",
                  n, " pixels");
-  std::map<std::uint32_t, const core::ActorTruth*> bodies;
-  for (const core::ActorTruth& a : truth.actors) bodies[a.id] = &a;
+  const ActorIndex bodies(truth, "blind band");
   std::map<std::uint32_t, BlindBandActor> actors;
   for (int r = 0; r < scan.rows; ++r) {
     for (int col = 0; col < scan.cols; ++col) {
       const std::size_t i = scan.index(r, col);
       if (!scan.valid[i] || !gt.moving[i] || gt.instance[i] == 0) continue;
-      const auto body = bodies.find(gt.instance[i]);
-      FMCW_CHECK_ARG(body != bodies.end(), "blind band: pixels hit actor ", gt.instance[i],
-                     " but the frame's truth lists no such actor");
-      const core::ActorTruth& t = *body->second;
+      const core::ActorTruth& t = bodies[gt.instance[i]];
       const Eigen::Vector3d p = scan.position(i);
       const Eigen::Vector3d e = (p - scan.beam_origin(i)).normalized();
       const Eigen::Vector3d v_body = t.velocity_rig_mps + t.angular_velocity_rig_rps.cross(p - t.position_rig_m);

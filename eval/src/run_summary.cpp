@@ -72,15 +72,12 @@ MethodSummary summarize(const std::vector<FrameEvaluation>& frames, const Summar
     }
     s.instances += f.instances;
     for (const BlindBandActor& a : f.blind_band) {
-      if (a.band_pixels > 0 && seen_moving.count(a.actor_id) > 0) {
-        ++s.blind_actor_frames;
-        s.blind_band_pixels += static_cast<std::uint64_t>(a.band_pixels);
-        s.blind_band_detected += static_cast<std::uint64_t>(a.band_detected);
-      }
-      if (a.part_band_pixels > 0 && seen_moving.count(a.actor_id) > 0) {
-        s.blind_part_pixels += static_cast<std::uint64_t>(a.part_band_pixels);
-        s.blind_part_detected += static_cast<std::uint64_t>(a.part_band_detected);
-      }
+      if (seen_moving.count(a.actor_id) == 0) continue;
+      if (a.band_pixels > 0) ++s.blind_actor_frames;
+      s.blind_band_pixels += static_cast<std::uint64_t>(a.band_pixels);
+      s.blind_band_detected += static_cast<std::uint64_t>(a.band_detected);
+      s.blind_part_pixels += static_cast<std::uint64_t>(a.part_band_pixels);
+      s.blind_part_detected += static_cast<std::uint64_t>(a.part_band_detected);
     }
     for (const BlindBandActor& a : f.blind_band) {
       if (a.visible_pixels >= params.blind_visible_pixels) seen_moving.insert(a.actor_id);
