@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace fmcw::sim {
@@ -57,6 +58,16 @@ void actor_footprints(const std::vector<BoundingSphere>& bounds, const core::Hea
     }
     if (fp.row_begin < fp.row_end && fp.col_begin < fp.col_end) out.push_back(fp);
   }
+}
+
+double nearest_actor_m(const std::vector<ActorFootprint>& footprints, int r0, int r1, int c0, int c1) {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const ActorFootprint& fp : footprints) {
+    if (fp.row_begin < r1 && fp.row_end > r0 && fp.col_begin < c1 && fp.col_end > c0) {
+      nearest = std::min(nearest, fp.nearest_m);
+    }
+  }
+  return nearest;
 }
 
 }  // namespace fmcw::sim

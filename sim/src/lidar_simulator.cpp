@@ -136,12 +136,7 @@ void LidarSimulator::cast_actor_block(int r0, int r1, const std::vector<std::pai
     for (std::size_t t = 0; t < order.size(); t += static_cast<std::size_t>((r1 - r0) * kTileCols)) {
       const int c0 = span[h].first + static_cast<int>(t) / (r1 - r0);
       const int c1 = std::min(span[h].second, c0 + kTileCols);
-      double nearest = std::numeric_limits<double>::infinity();
-      for (const ActorFootprint& fp : footprints[h]) {
-        if (fp.row_begin < r1 && fp.row_end > r0 && fp.col_begin < c1 && fp.col_end > c0) {
-          nearest = std::min(nearest, fp.nearest_m);
-        }
-      }
+      const double nearest = nearest_actor_m(footprints[h], r0, r1, c0, c1);
       if (nearest == std::numeric_limits<double>::infinity()) continue;
       const std::size_t tile_end = std::min(order.size(), t + static_cast<std::size_t>((r1 - r0) * (c1 - c0)));
       float farthest = 0.0f;  // +inf where nothing static was hit
@@ -180,12 +175,7 @@ void LidarSimulator::cast_sub_rays(int r, const Eigen::Matrix3f& R_wr, const std
     // simulate()) whose sub-rays are not all stopped nearer by the static world.
     scratch.actor_order.clear();
     for (std::size_t c = c0; c < c0 + count; ++c) {
-      double nearest = std::numeric_limits<double>::infinity();
-      for (const ActorFootprint& fp : footprints[h]) {
-        if (fp.row_begin <= r && r < fp.row_end && fp.col_begin <= static_cast<int>(c) && static_cast<int>(c) < fp.col_end) {
-          nearest = std::min(nearest, fp.nearest_m);
-        }
-      }
+      const double nearest = nearest_actor_m(footprints[h], r, r + 1, static_cast<int>(c), static_cast<int>(c) + 1);
       if (nearest == std::numeric_limits<double>::infinity()) continue;
       float farthest = 0.0f;  // +inf where nothing static was hit
       for (std::size_t j = 0; j < sub; ++j) farthest = std::max(farthest, scratch.hits[c * sub + j].distance_m);

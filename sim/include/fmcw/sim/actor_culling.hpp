@@ -25,4 +25,8 @@ struct ActorFootprint {
 void actor_footprints(const std::vector<BoundingSphere>& bounds, const core::HeadModel& head, int col_begin,
                       const Eigen::Isometry3d& T_world_head, double margin_rad, std::vector<ActorFootprint>& out);
 
+/// How near the nearest actor whose footprint overlaps rows [r0, r1) x columns [c0, c1) can
+/// be; +inf when no footprint does.
+double nearest_actor_m(const std::vector<ActorFootprint>& footprints, int r0, int r1, int c0, int c1);
+
 }  // namespace fmcw::sim
