@@ -52,6 +52,7 @@ void MotionPipelineParams::validate() const {
   FMCW_CHECK_ARG(min_static_fraction >= 0.0 && min_static_fraction <= 1.0, "pipeline: min_static_fraction must be in [0, 1], got ",
                  min_static_fraction);
   FMCW_CHECK_ARG(num_threads >= 0, "pipeline: num_threads must be >= 0, got ", num_threads);
+  FMCW_CHECK_ARG(max_weak_sigma_mps > 0.0, "pipeline: max_weak_sigma_mps must be > 0, got ", max_weak_sigma_mps);
   FMCW_CHECK_ARG(!track_objects || approach == MotionApproach::kRobustEgo,
                  "pipeline: track_objects needs the robust-ego approach");
   tracking.validate();
@@ -391,6 +392,14 @@ MotionEstimate MotionPipeline::process(const Scan& scan, std::uint64_t frame_ind
       const double ms = ms_since(t0);
       out.timing.objects_ms += ms;
       out.timing.total_ms += ms;
+    }
+    // What one scan reports for an object without a track: a direction its fit hardly
+    // observes zeroed. The tracker takes the fits as they are and caps their weak direction
+    // itself; a track reports its own estimate.
+    if (params_.planar_objects) {
+      for (ClusterEstimate& ce : out.clusters) {
+        if (ce.track_id == 0) zero_unobserved_direction(ce.velocity, params_.ego.noise_sigma_mps, params_.max_weak_sigma_mps);
+      }
     }
     return out;
   }

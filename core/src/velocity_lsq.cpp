@@ -138,6 +138,8 @@ VelocityEstimate solve_velocity_planar_robust(const VelocityRows& rows, double n
   std::vector<double> residual(n), scratch(n);
   Eigen::Vector2d v = est.velocity_mps.head<2>();
   Eigen::Matrix2d N = Eigen::Matrix2d::Zero();
+  Eigen::Matrix2d N_used = Eigen::Matrix2d::Zero();  // the weighted information behind v
+  for (std::size_t k = 0; k < n; ++k) N_used.noalias() += rows.directions[k].head<2>() * rows.directions[k].head<2>().transpose();
   for (int it = 0; it < iterations; ++it) {
     for (std::size_t k = 0; k < n; ++k) residual[k] = rows.targets_mps[k] - rows.directions[k].head<2>().dot(v);
     for (std::size_t k = 0; k < n; ++k) scratch[k] = std::abs(residual[k]);
@@ -159,10 +161,38 @@ VelocityEstimate solve_velocity_planar_robust(const VelocityRows& rows, double n
     if (!next.allFinite() || N.determinant() <= 0.0) break;
     const bool converged = (next - v).norm() < 1e-6;
     v = next;
+    N_used = N;
     if (converged) break;
   }
   est.velocity_mps = Eigen::Vector3d(v.x(), v.y(), 0.0);
+  // Covariance of the robust fit: the residuals' robust scale (at least the noise) over the
+  // information of the rows it kept. The plain fit's would count every wheel and limb row.
+  for (std::size_t k = 0; k < n; ++k) scratch[k] = std::abs(rows.targets_mps[k] - rows.directions[k].head<2>().dot(v));
+  std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(n / 2), scratch.end());
+  const double scale = std::max(noise_sigma_mps, 1.4826 * scratch[n / 2]);
+  if (N_used.determinant() > 0.0) {
+    est.covariance.setZero();
+    est.covariance.topLeftCorner<2, 2>() = scale * scale * N_used.inverse();
+  }
   return est;
+}
+
+void zero_unobserved_direction(VelocityEstimate& estimate, double noise_sigma_mps, double max_weak_sigma_mps,
+                               double unobserved_speed_sigma_mps) {
+  if (!estimate.valid || !estimate.covariance.allFinite() || !estimate.velocity_mps.allFinite()) return;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(estimate.covariance.topLeftCorner<2, 2>());
+  const double weakest_information = estimate.information_eigenvalues(1);  // planar: (0, min, max)
+  const double weak_var =
+      std::max(eig.eigenvalues()(1), weakest_information > 0.0
+                                         ? noise_sigma_mps * noise_sigma_mps / weakest_information
+                                         : std::numeric_limits<double>::infinity());
+  if (!(weak_var > max_weak_sigma_mps * max_weak_sigma_mps)) return;
+  const Eigen::Vector2d strong = eig.eigenvectors().col(0);
+  const Eigen::Vector2d weak = eig.eigenvectors().col(1);
+  estimate.velocity_mps.head<2>() = estimate.velocity_mps.head<2>().dot(strong) * strong;
+  estimate.covariance.topLeftCorner<2, 2>() =
+      eig.eigenvalues()(0) * strong * strong.transpose() +
+      std::max(weak_var, unobserved_speed_sigma_mps * unobserved_speed_sigma_mps) * weak * weak.transpose();
 }
 
 VelocityEstimate solve_velocity_closed_form(const VelocityRows& rows, double qr_condition_threshold) {

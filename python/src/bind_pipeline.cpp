@@ -83,6 +83,7 @@ void bind_pipeline(py::module_& m) {
       .def_readwrite("instances", &core::MotionPipelineParams::instances)
       .def_readwrite("moving_sigma", &core::MotionPipelineParams::moving_sigma)
       .def_readwrite("planar_objects", &core::MotionPipelineParams::planar_objects)
+      .def_readwrite("max_weak_sigma_mps", &core::MotionPipelineParams::max_weak_sigma_mps)
       .def_readwrite("seed", &core::MotionPipelineParams::seed)
       .def_readwrite("num_threads", &core::MotionPipelineParams::num_threads)
       .def("validate", &core::MotionPipelineParams::validate)

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -11,6 +12,7 @@
 #include "fmcw/core/motion_pipeline.hpp"
 #include "fmcw/core/random.hpp"
 #include "fmcw/core/synthetic_scan.hpp"
+#include "fmcw/core/velocity_lsq.hpp"
 #include "scenes.hpp"
 
 namespace fmcw::core {
@@ -193,6 +195,41 @@ TEST(PlanarRobustVelocity, TorsoOutvotesSwingingLimbs) {
   EXPECT_GT((plain.velocity_mps.head<2>() - body).norm(), 0.1);
   EXPECT_LT((fit.velocity_mps.head<2>() - body).norm(), 0.03);
   EXPECT_EQ(fit.velocity_mps.z(), 0.0);
+  // Its covariance is the torso's: noise over the kept rows, not the limbs' spread.
+  EXPECT_LT(std::sqrt(fit.covariance.topLeftCorner<2, 2>().eigenvalues().real().maxCoeff()), 0.02);
+  EXPECT_GT(std::sqrt(plain.covariance.topLeftCorner<2, 2>().eigenvalues().real().maxCoeff()), 0.1);
+}
+
+// Rows of a body moving at v seen by n beams fanning over `spread` radians of azimuth around
+// +x, with Doppler noise; every tenth row (a limb) 1.5 m/s faster along the beam.
+VelocityRows fan_rows(const Eigen::Vector2d& v, int n, double spread, std::uint64_t seed) {
+  Rng rng(seed);
+  VelocityRows rows;
+  for (int k = 0; k < n; ++k) {
+    const double az = spread * (static_cast<double>(k) / std::max(n - 1, 1) - 0.5);
+    const Eigen::Vector3d e(std::cos(az), std::sin(az), 0.0);
+    rows.directions.push_back(e);
+    rows.targets_mps.push_back(e.head<2>().dot(v) + 0.031 * rng.normal() + (k % 10 == 9 ? 1.5 : 0.0));
+  }
+  return rows;
+}
+
+TEST(PlanarRobustVelocity, AnUnobservedDirectionIsReportedAsZeroAndUnknown) {
+  // Four beams within 0.3 deg: the lateral velocity is fitted to whatever the noise says.
+  const Eigen::Vector2d v(-6.0, 1.5);
+  VelocityEstimate narrow = solve_velocity_planar_robust(fan_rows(v, 4, 0.005, 7), 0.031);
+  ASSERT_TRUE(narrow.valid);
+  zero_unobserved_direction(narrow, 0.031, 0.5);
+  EXPECT_NEAR(narrow.velocity_mps.x(), v.x(), 0.1);  // the radial part stays
+  EXPECT_NEAR(narrow.velocity_mps.y(), 0.0, 0.01);   // the lateral part is not guessed
+  EXPECT_GE(narrow.covariance(1, 1), 100.0);         // and says it is unknown
+  // Forty beams over 30 deg observe both directions: nothing changes.
+  VelocityEstimate wide = solve_velocity_planar_robust(fan_rows(v, 40, 0.5, 7), 0.031);
+  const VelocityEstimate before = wide;
+  zero_unobserved_direction(wide, 0.031, 0.5);
+  EXPECT_EQ(wide.velocity_mps, before.velocity_mps);
+  EXPECT_EQ(wide.covariance, before.covariance);
+  EXPECT_LT((wide.velocity_mps.head<2>() - v).norm(), 0.1);
 }
 
 }  // namespace

@@ -52,6 +52,10 @@ struct MotionPipelineParams {
   /// kRobustEgo: objects move in the horizontal plane of the rig (v_z = 0). A few degrees of
   /// elevation leave v_z nearly unobservable, and limbs or wheels would leak into it.
   bool planar_objects = true;
+  /// kRobustEgo with planar_objects: an untracked object's horizontal velocity direction known
+  /// to worse than this is reported as zero, its variance saying it is unknown
+  /// (zero_unobserved_direction). Tracks take the fits as they are [m/s].
+  double max_weak_sigma_mps = 0.5;
   /// Every method: when fewer than this fraction of the valid points belong to the static world
   /// (the largest region, or the ego twist's inliers), the scan shows no static world (every
   /// point moving, each its own way) and no ego velocity is reported: kTooFewStaticPoints.

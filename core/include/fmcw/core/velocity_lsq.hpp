@@ -96,6 +96,16 @@ VelocityEstimate solve_velocity_planar(const VelocityRows& rows);
 /// residual (at least noise_sigma_mps), starting from the plain least-squares solution.
 VelocityEstimate solve_velocity_planar_robust(const VelocityRows& rows, double noise_sigma_mps, int iterations = 8);
 
+/// A planar estimate's horizontal direction known to worse than max_weak_sigma_mps is
+/// unobserved: beams that hardly fan out (a far cluster a few pixels wide), or a walker whose
+/// swinging limbs vary the Doppler across the few degrees it spans, fit it to tens or thousands
+/// of m/s. Known to: the larger of the covariance's larger eigenvalue and noise_sigma_mps^2 over
+/// the smaller information eigenvalue (a three-point fit has next to no residual). Its velocity
+/// along it is set to zero and its variance to at least unobserved_speed_sigma_mps squared: zero
+/// is a guess, not a measurement. Invalid or non-finite estimates are left alone.
+void zero_unobserved_direction(VelocityEstimate& estimate, double noise_sigma_mps, double max_weak_sigma_mps,
+                               double unobserved_speed_sigma_mps = 10.0);
+
 /// solve_normal_equations on explicit rows.
 VelocityEstimate solve_velocity_closed_form(const VelocityRows& rows, double qr_condition_threshold = 1e8);
 
