@@ -44,6 +44,10 @@ void TrackerParams::validate() const {
   FMCW_CHECK_ARG(claim_doppler_tolerance_mps > 0.0,
                  "tracking: claim_doppler_tolerance_mps must be > 0");
   FMCW_CHECK_ARG(max_length_m > 0.0 && max_width_m > 0.0, "tracking: box size caps must be > 0");
+  FMCW_CHECK_ARG(split_min_share > 0.0, "tracking: split_min_share must be > 0 (above 1: never split), got ",
+                 split_min_share);
+  FMCW_CHECK_ARG(view_cut_cosine >= 0.0 && view_cut_cosine < 1.0,
+                 "tracking: view_cut_cosine must be in [0, 1), got ", view_cut_cosine);
   FMCW_CHECK_ARG(max_gap_s > 0.0, "tracking: max_gap_s must be > 0, got ", max_gap_s);
   FMCW_CHECK_ARG(ego_accel_mps2 > 0.0 && ego_velocity_margin_mps >= 0.0 && ego_yaw_accel_rps2 > 0.0 &&
                      ego_yaw_rate_margin_rps >= 0.0,
@@ -111,6 +115,7 @@ void predict(Track& t, double dt, const TrackerParams& p) {
   t.x = propagate(t.x, dt);
   t.P = F * t.P * F.transpose() + Q;
   t.heading_rad += t.x(4) * dt;
+  t.extents_heading_rad += t.x(4) * dt;
 }
 
 // Oriented box in the tracker's world, for point-in-box tests.
@@ -140,6 +145,99 @@ Box box_of(const Track& t) {
   b.half_l = 0.5 * std::max(t.length_m, 0.4);
   b.half_w = 0.5 * std::max(t.width_m, 0.4);
   return b;
+}
+
+// A cluster that two tracked objects share (two cars nose to tail at one speed touch in the
+// image and in Doppler) is split between them when each one's predicted box holds a good share
+// of the pixels it had last time: a pixel goes to the box that holds it (the nearest centre
+// where boxes overlap), else to the nearest of those boxes. The first part keeps the label,
+// the others get new ones; each part keeps the cluster's single-scan estimate.
+template <class ToWorld>
+void split_shared_clusters(const Scan& scan, MotionEstimate& est,
+                           std::vector<std::vector<std::uint32_t>>& cluster_pixels,
+                           const std::vector<Track>& tracks, const std::vector<Box>& boxes,
+                           const TrackerParams& p, const ToWorld& world_xy) {
+  std::vector<std::size_t> eligible;
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    if (tracks[t].confirmed && tracks[t].misses == 0) eligible.push_back(t);
+  }
+  if (eligible.size() < 2) return;
+  const std::size_t k0 = est.clusters.size();
+  std::vector<std::size_t> near;
+  for (std::size_t c = 0; c < k0; ++c) {
+    const std::vector<std::uint32_t>& px = cluster_pixels[c];
+    if (static_cast<int>(px.size()) < 2 * p.min_cluster_pixels) continue;
+    std::vector<Eigen::Vector2d> q(px.size());
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector2d hi = -lo;
+    for (std::size_t n = 0; n < px.size(); ++n) {
+      q[n] = world_xy(scan.position(px[n]));
+      lo = lo.cwiseMin(q[n]);
+      hi = hi.cwiseMax(q[n]);
+    }
+    // Only boxes that reach the cluster's extent can hold its pixels.
+    near.clear();
+    for (std::size_t t : eligible) {
+      const Box& b = boxes[t];
+      const double reach = std::hypot(b.half_l, b.half_w) + p.claim_margin_m;
+      if ((b.centre - (b.centre.cwiseMax(lo).cwiseMin(hi))).norm() <= reach) near.push_back(t);
+    }
+    if (near.size() < 2) continue;
+    std::vector<int> holder(px.size(), -1);
+    std::vector<int> held(tracks.size(), 0);
+    for (std::size_t n = 0; n < px.size(); ++n) {
+      double best = std::numeric_limits<double>::infinity();
+      for (std::size_t t : near) {
+        if (!boxes[t].contains(q[n], p.claim_margin_m)) continue;
+        const double d = (q[n] - boxes[t].centre).norm();
+        if (d < best) {
+          best = d;
+          holder[n] = static_cast<int>(t);
+        }
+      }
+      if (holder[n] >= 0) ++held[static_cast<std::size_t>(holder[n])];
+    }
+    std::vector<std::size_t> sharers;
+    for (std::size_t t : near) {
+      const double need = std::max(static_cast<double>(p.min_cluster_pixels),
+                                   p.split_min_share * static_cast<double>(tracks[t].last_pixels));
+      if (held[t] >= need) sharers.push_back(t);
+    }
+    if (sharers.size() < 2) continue;
+    std::vector<std::vector<std::uint32_t>> parts(sharers.size());
+    for (std::size_t n = 0; n < px.size(); ++n) {
+      std::size_t part = 0;
+      double best = std::numeric_limits<double>::infinity();
+      for (std::size_t s = 0; s < sharers.size(); ++s) {
+        const double d = static_cast<int>(sharers[s]) == holder[n] ? -1.0 : boxes[sharers[s]].distance(q[n]);
+        if (d < best) {
+          best = d;
+          part = s;
+        }
+      }
+      parts[part].push_back(px[n]);
+    }
+    const ClusterEstimate whole = est.clusters[c];
+    for (std::size_t s = 0; s < parts.size(); ++s) {
+      if (parts[s].empty()) continue;
+      const bool first = s == 0;
+      const std::size_t slot = first ? c : est.clusters.size();
+      if (!first) {
+        est.clusters.push_back(whole);
+        est.clusters.back().id = static_cast<std::int32_t>(slot + 1);
+        cluster_pixels.emplace_back();
+      }
+      ClusterEstimate& ce = est.clusters[slot];
+      ce.num_pixels = static_cast<int>(parts[s].size());
+      ce.centroid_m = Eigen::Vector3d::Zero();
+      for (std::uint32_t i : parts[s]) {
+        ce.centroid_m += scan.position(i);
+        est.labels[i] = static_cast<std::int32_t>(slot + 1);
+      }
+      ce.centroid_m /= static_cast<double>(parts[s].size());
+      cluster_pixels[slot] = std::move(parts[s]);
+    }
+  }
 }
 
 // One pixel's Doppler row in the tracker's world: y = e . v + omega * e . (z x (o - c)).
@@ -206,6 +304,34 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
   const Eigen::Matrix2d R = rotation(yaw_);
   const Eigen::Vector3d omega(0.0, 0.0, w_ego);
   const std::vector<Eigen::Vector3d> col_origin = column_origins(scan);
+  // Pixels on the edge of the view (the top and bottom rows, each head's first and last
+  // column): an object's outline that runs there is cut by the view, not by the body.
+  std::vector<std::uint8_t> view_edge(scan.size(), 0);
+  for (int c = 0; c < scan.cols; ++c) {
+    view_edge[scan.index(0, c)] = 1;
+    view_edge[scan.index(scan.rows - 1, c)] = 1;
+  }
+  for (const HeadInfo& h : scan.heads) {
+    for (int r = 0; r < scan.rows; ++r) {
+      view_edge[scan.index(r, h.col_begin)] = 1;
+      view_edge[scan.index(r, h.col_end - 1)] = 1;
+    }
+  }
+  // Where the view cuts at an edge pixel, in the world's plane: away from the head's axis at a
+  // column edge, towards the sensor at the bottom row (what lies lower and nearer is unseen),
+  // away from it at the top row.
+  auto cut_direction = [&](std::uint32_t i) -> Eigen::Vector2d {
+    const int c = static_cast<int>(i % static_cast<std::uint32_t>(scan.cols));
+    const Eigen::Vector3d ray = scan.position(i) - col_origin[static_cast<std::size_t>(c)];
+    const Eigen::Vector2d d = (R * ray.head<2>()).normalized();
+    const HeadInfo& h = scan.heads[static_cast<std::size_t>(scan.head_of_col(c))];
+    if (c == h.col_begin || c == h.col_end - 1) {
+      const Eigen::Vector2d axis = R * h.T_rig_head.linear().col(0).head<2>();
+      const Eigen::Vector2d n(-d.y(), d.x());
+      return n.dot(axis) > 0.0 ? Eigen::Vector2d(-n) : n;
+    }
+    return ray.z() < 0.0 ? Eigen::Vector2d(-d) : d;
+  };
   auto world_xy = [&](const Eigen::Vector3d& q) -> Eigen::Vector2d {
     return R * q.head<2>() + position_;
   };
@@ -221,13 +347,16 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
   };
 
   // Pixels of each cluster.
-  const std::size_t k = est.clusters.size();
-  std::vector<std::vector<std::uint32_t>> cluster_pixels(k);
+  std::vector<std::vector<std::uint32_t>> cluster_pixels(est.clusters.size());
   for (std::size_t i = 0; i < est.labels.size(); ++i) {
     const std::int32_t l = est.labels[i];
     if (l >= 1)
       cluster_pixels[static_cast<std::size_t>(l - 1)].push_back(static_cast<std::uint32_t>(i));
   }
+  std::vector<Box> boxes(tracks_.size());
+  for (std::size_t t = 0; t < tracks_.size(); ++t) boxes[t] = box_of(tracks_[t]);
+  split_shared_clusters(scan, est, cluster_pixels, tracks_, boxes, p, world_xy);
+  const std::size_t k = est.clusters.size();
   std::vector<Eigen::Vector2d> cluster_centroid(k);
   for (std::size_t c = 0; c < k; ++c) cluster_centroid[c] = world_xy(est.clusters[c].centroid_m);
 
@@ -240,8 +369,6 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
   std::vector<Group> groups(tracks_.size());
   std::vector<int> owner(k, -1);
   std::vector<int> absorbed(k, -1);
-  std::vector<Box> boxes(tracks_.size());
-  for (std::size_t t = 0; t < tracks_.size(); ++t) boxes[t] = box_of(tracks_[t]);
   auto doppler_deviation = [&](std::size_t c, const Track& tr) {
     const std::vector<std::uint32_t>& px = cluster_pixels[c];
     const std::size_t step = std::max<std::size_t>(1, px.size() / 256);
@@ -350,12 +477,14 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     bool resize = born;
     if (v.norm() > 1.0) {
       const double heading = std::atan2(v.y(), v.x());
-      // Extents measured along a heading that has since swung (a poor first velocity) say
-      // nothing about the box along the new one: measure them afresh.
-      resize = resize ||
-               std::abs(std::remainder(heading - tr.heading_rad, 2.0 * M_PI)) > p.heading_reset_rad;
+      // Extents measured along a heading that has since swung, beyond what the yaw rate
+      // turned the body (a poor first velocity, corrected over a few frames), say nothing
+      // about the box along the new one: measure them afresh.
+      resize = resize || std::abs(std::remainder(heading - tr.extents_heading_rad, 2.0 * M_PI)) >
+                             p.heading_reset_rad;
       tr.heading_rad = heading;
     }
+    if (resize) tr.extents_heading_rad = tr.heading_rad;
     const Eigen::Vector2d u(std::cos(tr.heading_rad), std::sin(tr.heading_rad));
     const Eigen::Vector2d wv(-u.y(), u.x());
     // The box is measured on the pixels one scan found moving: claimed pixels are inside the
@@ -376,7 +505,9 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     pts.reserve(own);
     double zmin = std::numeric_limits<double>::infinity();
     double zmax = -zmin;
+    std::vector<Eigen::Vector2d> cuts;
     for (std::size_t n = first; n < own; ++n) {
+      if (view_edge[g.pixels[n]] != 0) cuts.push_back(cut_direction(g.pixels[n]));
       const Eigen::Vector3d q = scan.position(g.pixels[n]);
       pts.push_back(world_xy(q));
       ref += pts.back();
@@ -401,14 +532,30 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
         // A walker inside the band shows only its swinging limbs: its top stays where it was.
         tr.z_max_m = small_track && !born ? std::max(zmax, tr.z_max_m) : zmax;
       }
+      // Less than the whole size seen along an axis: the centre lies in [hi - size/2, lo +
+      // size/2]. An end of the outline is the body's own where the sensor sees that face or
+      // the silhouette, unless the view cuts it there (a car beside the ego, its rear beyond a
+      // head's edge). Anchored at such an end; with none, the predicted centre, brought into
+      // the interval, stands for the measurement.
       const Eigen::Vector2d s = position_ - ref;  // the sensor, relative to ref
-      auto anchor = [](double lo, double hi, double size, double sensor) {
-        if (sensor < lo) return lo + 0.5 * size;
-        if (sensor > hi) return hi - 0.5 * size;
-        return 0.5 * (lo + hi);
+      const Eigen::Vector2d pc = tr.centre() - ref;
+      auto anchor = [&](const Eigen::Vector2d& axis, double lo, double hi, double size) {
+        if (hi - lo >= size) return 0.5 * (lo + hi);
+        bool cut_lo = false, cut_hi = false;
+        for (const Eigen::Vector2d& n : cuts) {
+          cut_lo = cut_lo || n.dot(axis) < -p.view_cut_cosine;
+          cut_hi = cut_hi || n.dot(axis) > p.view_cut_cosine;
+        }
+        const double sensor = s.dot(axis);
+        const bool lo_own = !cut_lo && sensor <= hi;
+        const bool hi_own = !cut_hi && sensor >= lo;
+        if (lo_own && hi_own) return 0.5 * (lo + hi);
+        if (lo_own) return lo + 0.5 * size;
+        if (hi_own) return hi - 0.5 * size;
+        if (born) return 0.5 * (lo + hi);
+        return std::clamp(pc.dot(axis), hi - 0.5 * size, lo + 0.5 * size);
       };
-      centre = ref + anchor(a0, a1, tr.length_m, s.dot(u)) * u +
-               anchor(b0, b1, tr.width_m, s.dot(wv)) * wv;
+      centre = ref + anchor(u, a0, a1, tr.length_m) * u + anchor(wv, b0, b1, tr.width_m) * wv;
     }
     if (born) {  // the velocity prior already holds this frame's Doppler
       tr.x.head<2>() = centre;
@@ -496,6 +643,7 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     } else {
       measure(tr, groups[t], false);
       ++tr.hits;
+      tr.last_pixels = static_cast<int>(groups[t].pixels.size()) - groups[t].claimed;
       tr.misses = 0;
     }
     if (tr.hits >= p.confirm_hits) tr.confirmed = true;
@@ -570,6 +718,7 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
       tr.P.block<1, 2>(4, 2).setZero();
     }
     tr.hits = 1;
+    tr.last_pixels = static_cast<int>(g.pixels.size());
     if (tr.hits >= p.confirm_hits) tr.confirmed = true;
     owner[c] = static_cast<int>(tracks_.size());
     tracks_.push_back(tr);

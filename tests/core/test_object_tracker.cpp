@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <vector>
 
 #include "fmcw/core/motion_pipeline.hpp"
 #include "fmcw/core/object_tracker.hpp"
@@ -232,6 +233,117 @@ TEST(ObjectTracker, ACarPassingAWalkerKeepsItsOwnTrack) {
   }
   EXPECT_GT(walker_track, 0);
   EXPECT_GT(car_track, 0);
+}
+
+// Largest error of actor 1's reported box centre (x, y) over frames [first, last] of a car
+// that drives past the standing rig on its right, towards it and out of the right head's view:
+// its front end is cut by the view.
+double centre_error_of_a_car_leaving_the_view(double view_cut_cosine, int first, int last) {
+  MotionPipelineParams params = MotionPipelineParams::preset("tracked");
+  params.tracking.view_cut_cosine = view_cut_cosine;
+  MotionPipeline tracked(params);
+  const auto car_at = [](double t) {
+    SyntheticBox b;
+    b.center_m = Eigen::Vector3d(16.0 - 4.0 * t, -3.5, 0.8);
+    b.half_extent_m = Eigen::Vector3d(2.2, 0.9, 0.8);
+    b.velocity_mps = Eigen::Vector3d(-4.0, 0.0, 0.0);
+    return b;
+  };
+  double worst = 0.0;
+  for (int k = 0; k <= last; ++k) {
+    const Frame f = render_at(k, car_at);
+    const MotionEstimate e = tracked.process(f.scan, static_cast<std::uint64_t>(k));
+    if (k < first) continue;
+    const ClusterEstimate* c = actor_cluster(f, e);
+    if (c == nullptr || c->track_id == 0) {
+      ADD_FAILURE() << "frame " << k << ": the car has no tracked cluster";
+      return std::numeric_limits<double>::infinity();
+    }
+    worst = std::max(worst, (c->centre_m.head<2>() - car_at(k * kDt).center_m.head<2>()).norm());
+  }
+  return worst;
+}
+
+TEST(ObjectTracker, TheCentreOfACarLeavingTheViewStaysOnTheCar) {
+  // From t = 3.0 s the car's front (x = 16 - 4t - 2.2) runs beyond the edge of the view; at
+  // t = 3.6 s more than two metres of it are cut. The end the view cuts is no face of the car.
+  const double with_cuts = centre_error_of_a_car_leaving_the_view(TrackerParams{}.view_cut_cosine, 30, 36);
+  EXPECT_LT(with_cuts, 0.3);
+  // Control: with no end ever taken as cut, the centre follows the cut end backwards.
+  const double without = centre_error_of_a_car_leaving_the_view(0.999, 30, 36);
+  EXPECT_GT(without, 2.0 * with_cuts);
+  EXPECT_GT(without, 0.4);
+}
+
+// Runs the tracker on two cars driving away at one speed, one 2 m behind the other, left of
+// the rig; one scan separates them. With `merge`, from frame 10 on the estimate handed to the
+// tracker holds both cars in one cluster (as one scan makes of two such cars when they touch
+// in the image). Per frame from 10 on: each car's track and velocity, or track 0 when the two
+// cars share a label.
+struct TwoCars {
+  std::int32_t track[2] = {0, 0};
+  Eigen::Vector3d velocity[2];
+};
+
+std::vector<TwoCars> two_cars_in_line(bool merge, double split_min_share) {
+  MotionPipeline robust(MotionPipelineParams::preset("robust"));
+  TrackerParams tp;
+  tp.split_min_share = split_min_share;
+  ObjectTracker tracker(tp);
+  std::vector<TwoCars> out;
+  for (int k = 0; k < 20; ++k) {
+    SyntheticBox lead;
+    lead.center_m = Eigen::Vector3d(20.0 + 5.0 * k * kDt, 4.0, 0.8);
+    lead.half_extent_m = Eigen::Vector3d(2.2, 0.9, 0.8);
+    lead.velocity_mps = Eigen::Vector3d(5.0, 0.0, 0.0);
+    SyntheticBox follower = lead;
+    follower.center_m.x() -= 6.4;
+    const Frame f = render_actors(k, {lead, follower});
+    MotionEstimate e = robust.process(f.scan, static_cast<std::uint64_t>(k));
+    const ClusterEstimate* a = actor_cluster(f, e, 1);
+    const ClusterEstimate* b = actor_cluster(f, e, 2);
+    if (a == nullptr || b == nullptr || a == b) {
+      ADD_FAILURE() << "frame " << k << ": one scan does not separate the cars";
+      return out;
+    }
+    if (merge && k >= 10) {
+      const std::int32_t kept = a->id;
+      const std::int32_t gone = b->id;
+      for (std::int32_t& l : e.labels) {
+        if (l == gone) l = kept;
+      }
+    }
+    tracker.update(f.scan, e);
+    if (k < 10) continue;
+    TwoCars cars;
+    const ClusterEstimate* c[2] = {actor_cluster(f, e, 1), actor_cluster(f, e, 2)};
+    for (int n = 0; n < 2; ++n) {
+      if (c[n] == nullptr || c[0] == c[1]) continue;
+      cars.track[n] = c[n]->track_id;
+      cars.velocity[n] = c[n]->velocity.velocity_mps;
+    }
+    out.push_back(cars);
+  }
+  return out;
+}
+
+TEST(ObjectTracker, TwoCarsInOneClusterAreSplitAsOneScanWouldHaveSeparatedThem) {
+  const double share = TrackerParams{}.split_min_share;
+  const std::vector<TwoCars> apart = two_cars_in_line(false, share);
+  const std::vector<TwoCars> merged = two_cars_in_line(true, share);
+  ASSERT_EQ(apart.size(), 10u);
+  ASSERT_EQ(merged.size(), 10u);
+  for (std::size_t k = 0; k < merged.size(); ++k) {
+    for (int n = 0; n < 2; ++n) {
+      EXPECT_GT(merged[k].track[n], 0) << "frame " << k + 10 << " car " << n;
+      EXPECT_EQ(merged[k].track[n], apart[k].track[n]) << "frame " << k + 10 << " car " << n;
+      EXPECT_LT((merged[k].velocity[n] - apart[k].velocity[n]).norm(), 1e-6) << "frame " << k + 10 << " car " << n;
+      EXPECT_LT((merged[k].velocity[n] - Eigen::Vector3d(5.0, 0.0, 0.0)).norm(), 0.6) << "frame " << k + 10;
+    }
+    EXPECT_NE(merged[k].track[0], merged[k].track[1]) << "frame " << k + 10;
+  }
+  // Control: with splitting off (no box holds 1e9 times what its track had), they are one.
+  for (const TwoCars& cars : two_cars_in_line(true, 1e9)) EXPECT_EQ(cars.track[0], 0);
 }
 
 TEST(ObjectTracker, ResetsWhenTimeGoesBackOrJumps) {

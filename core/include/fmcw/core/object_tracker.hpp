@@ -61,6 +61,10 @@ struct TrackerParams {
   /// Doppler it does not explain (wheels) take its label without being measured [m].
   double vehicle_length_m = 3.0;
   int absorb_max_pixels = 60;           ///< size bound of such a wheel cluster [pixels]
+  /// A cluster is split between two or more tracks when each one's predicted box holds at
+  /// least this share of the pixels that track had last frame (two cars nose to tail at one
+  /// speed make one cluster).
+  double split_min_share = 0.5;
   double max_yaw_rate_rps = 1.5;        ///< bound of a track's yaw rate [rad/s]
   int confirm_hits = 3;                 ///< hysteresis: updates before a track may carry labels
   int max_misses = 5;                   ///< frames a track survives without a cluster
@@ -70,8 +74,11 @@ struct TrackerParams {
   double claim_ground_clearance_m = 0.12;  ///< claimed pixels lie this far above the track's lowest point [m]
   double claim_doppler_tolerance_mps = 0.25;  ///< claimed pixels' Doppler agrees with the track's motion
   double max_length_m = 20.0;           ///< box size caps [m]
-  double heading_reset_rad = 0.25;      ///< a heading change beyond this re-measures the box
+  double heading_reset_rad = 0.25;      ///< a heading swing beyond this (not turned by the yaw rate) re-measures the box
   double max_width_m = 4.0;
+  /// An end of a box axis is cut by the view where an edge pixel's cut direction (away from
+  /// the view, in the ground plane) has a cosine beyond this with the axis.
+  double view_cut_cosine = 0.5;
   double max_gap_s = 0.5;               ///< frames further apart (or going back in time) reset the tracker
   /// The ego twist of the previous frame bounds the next one's (TwistPrior): by acceleration
   /// times the frame gap, plus a margin.
@@ -91,11 +98,13 @@ struct Track {
   Eigen::Matrix<double, 5, 1> x = Eigen::Matrix<double, 5, 1>::Zero();
   Eigen::Matrix<double, 5, 5> P = Eigen::Matrix<double, 5, 5>::Identity();
   double heading_rad = 0.0;  ///< box axis; follows the velocity once the object moves
+  double extents_heading_rad = 0.0;  ///< the axis the extents were measured along, turned with the body
   double length_m = 0.0;     ///< largest extent seen along the heading [m]
   double width_m = 0.0;      ///< largest extent seen across it [m]
   double z_min_m = 0.0;      ///< lowest and highest point of the last box measurement (rig height) [m]
   double z_max_m = 0.0;
   int hits = 0;              ///< frames with a cluster
+  int last_pixels = 0;       ///< pixels one scan found moving in its last update
   int misses = 0;            ///< consecutive frames without one
   int slow_frames = 0;       ///< consecutive frames slower than carry_min_speed_mps
   bool confirmed = false;    ///< hits >= confirm_hits at some point
