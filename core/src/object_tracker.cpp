@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "fmcw/core/check.hpp"
+#include "fmcw/core/median.hpp"
 #include "fmcw/core/motion_pipeline.hpp"
 
 namespace fmcw::core {
@@ -59,11 +60,6 @@ using Vec5 = Eigen::Matrix<double, 5, 1>;
 using Mat5 = Eigen::Matrix<double, 5, 5>;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// The upper median of v (reordered in place); v must not be empty.
-double upper_median(std::vector<double>& v) {
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
 
 Eigen::Matrix2d rotation(double yaw) {
   Eigen::Matrix2d r;
@@ -318,19 +314,21 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     }
   }
   // Where the view cuts at an edge pixel, in the world's plane: away from the head's axis at a
-  // column edge, towards the sensor at the bottom row (what lies lower and nearer is unseen),
-  // away from it at the top row.
-  auto cut_direction = [&](std::uint32_t i) -> Eigen::Vector2d {
+  // column edge, towards the sensor at the bottom row (row 0 is the top; what lies lower and
+  // nearer is unseen), away from it at the top row. A corner pixel cuts both ways.
+  auto add_cuts = [&](std::uint32_t i, std::vector<Eigen::Vector2d>& cuts) {
     const int c = static_cast<int>(i % static_cast<std::uint32_t>(scan.cols));
+    const int r = static_cast<int>(i / static_cast<std::uint32_t>(scan.cols));
     const Eigen::Vector3d ray = scan.position(i) - col_origin[static_cast<std::size_t>(c)];
     const Eigen::Vector2d d = (R * ray.head<2>()).normalized();
     const HeadInfo& h = scan.heads[static_cast<std::size_t>(scan.head_of_col(c))];
     if (c == h.col_begin || c == h.col_end - 1) {
       const Eigen::Vector2d axis = R * h.T_rig_head.linear().col(0).head<2>();
       const Eigen::Vector2d n(-d.y(), d.x());
-      return n.dot(axis) > 0.0 ? Eigen::Vector2d(-n) : n;
+      cuts.push_back(n.dot(axis) > 0.0 ? Eigen::Vector2d(-n) : n);
     }
-    return ray.z() < 0.0 ? Eigen::Vector2d(-d) : d;
+    if (r == scan.rows - 1) cuts.push_back(-d);
+    if (r == 0) cuts.push_back(d);
   };
   auto world_xy = [&](const Eigen::Vector3d& q) -> Eigen::Vector2d {
     return R * q.head<2>() + position_;
@@ -507,7 +505,7 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     double zmax = -zmin;
     std::vector<Eigen::Vector2d> cuts;
     for (std::size_t n = first; n < own; ++n) {
-      if (view_edge[g.pixels[n]] != 0) cuts.push_back(cut_direction(g.pixels[n]));
+      if (view_edge[g.pixels[n]] != 0) add_cuts(g.pixels[n], cuts);
       const Eigen::Vector3d q = scan.position(g.pixels[n]);
       pts.push_back(world_xy(q));
       ref += pts.back();
