@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "fmcw/core/check.hpp"
+#include "fmcw/core/median.hpp"
 #include "fmcw/core/random.hpp"
 
 namespace fmcw::core {
@@ -234,8 +235,7 @@ bool merge_fragments(const Scan& scan, const std::vector<VelocityRows>& rows, co
     const Eigen::Vector3d& v = velocity[static_cast<std::size_t>(t - 1)].velocity_mps;
     residual.clear();
     for (std::size_t q = 0; q < rw.size(); ++q) residual.push_back(std::abs(rw.targets_mps[q] - rw.directions[q].dot(v)));
-    std::nth_element(residual.begin(), residual.begin() + static_cast<std::ptrdiff_t>(residual.size() / 2), residual.end());
-    if (residual[residual.size() / 2] >= params.fragment_residual_mps) continue;
+    if (upper_median(residual) >= params.fragment_residual_mps) continue;
     target[static_cast<std::size_t>(l)] = -t;  // merge l into t
     merged = true;
   }

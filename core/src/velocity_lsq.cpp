@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fmcw/core/median.hpp"
+
 namespace fmcw::core {
 
 namespace {
@@ -13,6 +15,13 @@ Eigen::Vector3d unit_beam(const Scan& scan, const std::vector<Eigen::Vector3d>& 
   const Eigen::Vector3d d =
       scan.position(i) - col_origin[i % static_cast<std::uint32_t>(scan.cols)];
   return d / d.norm();
+}
+
+// 1.4826 times the median absolute residual (a Gaussian's sigma), at least floor_sigma.
+double robust_scale(const std::vector<double>& residual, double floor_sigma, std::vector<double>& scratch) {
+  scratch.resize(residual.size());
+  for (std::size_t k = 0; k < residual.size(); ++k) scratch[k] = std::abs(residual[k]);
+  return std::max(floor_sigma, 1.4826 * upper_median(scratch));
 }
 }  // namespace
 
@@ -142,10 +151,8 @@ VelocityEstimate solve_velocity_planar_robust(const VelocityRows& rows, double n
   for (std::size_t k = 0; k < n; ++k) N_used.noalias() += rows.directions[k].head<2>() * rows.directions[k].head<2>().transpose();
   for (int it = 0; it < iterations; ++it) {
     for (std::size_t k = 0; k < n; ++k) residual[k] = rows.targets_mps[k] - rows.directions[k].head<2>().dot(v);
-    for (std::size_t k = 0; k < n; ++k) scratch[k] = std::abs(residual[k]);
-    std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(n / 2), scratch.end());
     // Tukey's biweight with c = 4.685 robust standard deviations (1.4826 MAD).
-    const double scale = std::max(noise_sigma_mps, 1.4826 * scratch[n / 2]);
+    const double scale = robust_scale(residual, noise_sigma_mps, scratch);
     const double c = 4.685 * scale;
     N.setZero();
     Eigen::Vector2d g = Eigen::Vector2d::Zero();
@@ -167,9 +174,8 @@ VelocityEstimate solve_velocity_planar_robust(const VelocityRows& rows, double n
   est.velocity_mps = Eigen::Vector3d(v.x(), v.y(), 0.0);
   // Covariance of the robust fit: the residuals' robust scale (at least the noise) over the
   // information of the rows it kept. The plain fit's would count every wheel and limb row.
-  for (std::size_t k = 0; k < n; ++k) scratch[k] = std::abs(rows.targets_mps[k] - rows.directions[k].head<2>().dot(v));
-  std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(n / 2), scratch.end());
-  const double scale = std::max(noise_sigma_mps, 1.4826 * scratch[n / 2]);
+  for (std::size_t k = 0; k < n; ++k) residual[k] = rows.targets_mps[k] - rows.directions[k].head<2>().dot(v);
+  const double scale = robust_scale(residual, noise_sigma_mps, scratch);
   if (N_used.determinant() > 0.0) {
     est.covariance.setZero();
     est.covariance.topLeftCorner<2, 2>() = scale * scale * N_used.inverse();
