@@ -49,6 +49,7 @@ void TrackerParams::validate() const {
                  split_min_share);
   FMCW_CHECK_ARG(view_cut_cosine >= 0.0 && view_cut_cosine < 1.0,
                  "tracking: view_cut_cosine must be in [0, 1), got ", view_cut_cosine);
+  FMCW_CHECK_ARG(view_cut_end_m >= 0.0, "tracking: view_cut_end_m must be >= 0, got ", view_cut_end_m);
   FMCW_CHECK_ARG(max_gap_s > 0.0, "tracking: max_gap_s must be > 0, got ", max_gap_s);
   FMCW_CHECK_ARG(ego_accel_mps2 > 0.0 && ego_velocity_margin_mps >= 0.0 && ego_yaw_accel_rps2 > 0.0 &&
                      ego_yaw_rate_margin_rps >= 0.0,
@@ -316,7 +317,11 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
   // Where the view cuts at an edge pixel, in the world's plane: away from the head's axis at a
   // column edge, towards the sensor at the bottom row (row 0 is the top; what lies lower and
   // nearer is unseen), away from it at the top row. A corner pixel cuts both ways.
-  auto add_cuts = [&](std::uint32_t i, std::vector<Eigen::Vector2d>& cuts) {
+  struct Cut {
+    Eigen::Vector2d direction;
+    Eigen::Vector2d at;  // the edge pixel, world plane
+  };
+  auto add_cuts = [&](std::uint32_t i, const Eigen::Vector2d& at, std::vector<Cut>& cuts) {
     const int c = static_cast<int>(i % static_cast<std::uint32_t>(scan.cols));
     const int r = static_cast<int>(i / static_cast<std::uint32_t>(scan.cols));
     const Eigen::Vector3d ray = scan.position(i) - col_origin[static_cast<std::size_t>(c)];
@@ -325,10 +330,10 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     if (c == h.col_begin || c == h.col_end - 1) {
       const Eigen::Vector2d axis = R * h.T_rig_head.linear().col(0).head<2>();
       const Eigen::Vector2d n(-d.y(), d.x());
-      cuts.push_back(n.dot(axis) > 0.0 ? Eigen::Vector2d(-n) : n);
+      cuts.push_back({n.dot(axis) > 0.0 ? Eigen::Vector2d(-n) : n, at});
     }
-    if (r == scan.rows - 1) cuts.push_back(-d);
-    if (r == 0) cuts.push_back(d);
+    if (r == scan.rows - 1) cuts.push_back({-d, at});
+    if (r == 0) cuts.push_back({d, at});
   };
   auto world_xy = [&](const Eigen::Vector3d& q) -> Eigen::Vector2d {
     return R * q.head<2>() + position_;
@@ -503,11 +508,11 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     pts.reserve(own);
     double zmin = std::numeric_limits<double>::infinity();
     double zmax = -zmin;
-    std::vector<Eigen::Vector2d> cuts;
+    std::vector<Cut> cuts;
     for (std::size_t n = first; n < own; ++n) {
-      if (view_edge[g.pixels[n]] != 0) add_cuts(g.pixels[n], cuts);
       const Eigen::Vector3d q = scan.position(g.pixels[n]);
       pts.push_back(world_xy(q));
+      if (view_edge[g.pixels[n]] != 0) add_cuts(g.pixels[n], pts.back(), cuts);
       ref += pts.back();
       zmin = std::min(zmin, q.z());
       zmax = std::max(zmax, q.z());
@@ -539,10 +544,14 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
       const Eigen::Vector2d pc = tr.centre() - ref;
       auto anchor = [&](const Eigen::Vector2d& axis, double lo, double hi, double size) {
         if (hi - lo >= size) return 0.5 * (lo + hi);
+        // A cut counts at the end its pixel lies at (a seam between stitched heads runs
+        // through an object that spans it, away from its ends).
+        const double near_end = p.view_cut_end_m + 0.05 * (hi - lo);
         bool cut_lo = false, cut_hi = false;
-        for (const Eigen::Vector2d& n : cuts) {
-          cut_lo = cut_lo || n.dot(axis) < -p.view_cut_cosine;
-          cut_hi = cut_hi || n.dot(axis) > p.view_cut_cosine;
+        for (const Cut& cut : cuts) {
+          const double along = (cut.at - ref).dot(axis);
+          cut_lo = cut_lo || (cut.direction.dot(axis) < -p.view_cut_cosine && along <= lo + near_end);
+          cut_hi = cut_hi || (cut.direction.dot(axis) > p.view_cut_cosine && along >= hi - near_end);
         }
         const double sensor = s.dot(axis);
         const bool lo_own = !cut_lo && sensor <= hi;

@@ -76,9 +76,11 @@ struct TrackerParams {
   double max_length_m = 20.0;           ///< box size caps [m]
   double heading_reset_rad = 0.25;      ///< a heading swing beyond this (not turned by the yaw rate) re-measures the box
   double max_width_m = 4.0;
-  /// An end of a box axis is cut by the view where an edge pixel's cut direction (away from
-  /// the view, in the ground plane) has a cosine beyond this with the axis.
+  /// An end of a box axis is cut by the view where an edge pixel lies within view_cut_end_m
+  /// (plus 5 % of the visible extent) of that end and its cut direction (away from the view, in
+  /// the ground plane) has a cosine beyond view_cut_cosine with the axis.
   double view_cut_cosine = 0.5;
+  double view_cut_end_m = 0.25;
   double max_gap_s = 0.5;               ///< frames further apart (or going back in time) reset the tracker
   /// The ego twist of the previous frame bounds the next one's (TwistPrior): by acceleration
   /// times the frame gap, plus a margin.
