@@ -94,6 +94,8 @@ void EgoTwistParams::validate() const {
   FMCW_CHECK_ARG(ransac_iterations >= 1 && sample_points >= 8, "ego twist: ransac_iterations >= 1 and sample_points >= 8 required");
   FMCW_CHECK_ARG(huber_k_sigma > 0.0 && refine_iterations >= 1, "ego twist: huber_k_sigma > 0 and refine_iterations >= 1 required");
   FMCW_CHECK_ARG(max_yaw_rate_rps > 0.0, "ego twist: max_yaw_rate_rps must be > 0");
+  FMCW_CHECK_ARG(lateral_velocity_sigma_mps >= 0.0, "ego twist: lateral_velocity_sigma_mps must be >= 0, got ",
+                 lateral_velocity_sigma_mps);
   FMCW_CHECK_ARG(min_inliers >= 4, "ego twist: min_inliers must be >= 4, got ", min_inliers);
   FMCW_CHECK_ARG(standing_coverage_fraction > 0.0 && standing_coverage_fraction <= 1.0,
                  "ego twist: standing_coverage_fraction must be in (0, 1]");
@@ -203,6 +205,14 @@ EgoTwistEstimate estimate_ego_twist(const Scan& scan, const EgoTwistParams& para
         with_yaw ? s2 / (prior->max_yaw_rate_change_rps * prior->max_yaw_rate_change_rps) : 0.0;
     prior_twist << prior->velocity_mps, with_yaw ? prior->yaw_rate_rps : 0.0;
   }
+  // A car's rear axle does not slide sideways: with the yaw rate estimated, a soft pull of the
+  // lateral velocity towards zero (same units) settles the direction in which lateral velocity
+  // and yaw rate trade off when the static world shows only ahead.
+  double lateral_info = 0.0;
+  if (with_yaw && params.lateral_velocity_sigma_mps > 0.0) {
+    const double s2 = params.noise_sigma_mps * params.noise_sigma_mps;
+    lateral_info = s2 / (params.lateral_velocity_sigma_mps * params.lateral_velocity_sigma_mps);
+  }
   for (int iter = 0; iter < params.refine_iterations; ++iter) {
     N.setZero();
     g.setZero();
@@ -223,6 +233,7 @@ EgoTwistEstimate estimate_ego_twist(const Scan& scan, const EgoTwistParams& para
     }
     N.diagonal() += prior_info;
     g += prior_info.cwiseProduct(prior_twist);
+    N(1, 1) += lateral_info;  // towards v_y = 0
     if (out.standing || inliers < dof) break;
     if (!with_yaw) {
       N.col(3).setZero();

@@ -72,6 +72,7 @@ MotionPipelineParams MotionPipelineParams::preset(const std::string& method) {
   } else if (method == "tracked") {
     p.approach = MotionApproach::kRobustEgo;
     p.track_objects = true;
+    p.ego.lateral_velocity_sigma_mps = 0.1;  // a vehicle rig, its origin under the rear axle
   } else if (method == "fast") {
     p.velocity.solver = VelocitySolver::kClosedForm;
     p.velocity.ego_max_points = 0;

@@ -24,6 +24,11 @@ struct EgoTwistParams {
   /// wild yaw rate could otherwise give each head its own velocity and stitch a passing truck
   /// in one head to the static world in another. Road vehicles stay well below 1 rad/s.
   double max_yaw_rate_rps = 1.5;
+  /// Refinement, with the yaw rate estimated: the rig origin's lateral velocity is pulled
+  /// towards zero with this standard deviation (a car's rear axle, where the rig origin sits,
+  /// does not slide sideways); 0 = no pull. It decides only what the points leave open: with the
+  /// static world ahead alone, lateral velocity and yaw rate trade off [m/s].
+  double lateral_velocity_sigma_mps = 0.0;
   double huber_k_sigma = 2.0;  ///< refinement: Huber weights beyond k sigma
   int min_inliers = 20;        ///< fewer static-consistent points: no estimate (not a world)
   int refine_iterations = 3;
