@@ -204,11 +204,7 @@ bool merge_fragments(const Scan& scan, const std::vector<VelocityRows>& rows, co
                      const InstanceParams& params, std::vector<std::int32_t>& labels) {
   const int k = static_cast<int>(rows.size());
   std::vector<std::int32_t> target(static_cast<std::size_t>(k) + 1, 0);
-  const auto groups = scan.connected_column_groups();
-  std::vector<int> group_of(static_cast<std::size_t>(scan.cols), 0);
-  for (std::size_t g = 0; g < groups.size(); ++g) {
-    for (int c = groups[g].first; c < groups[g].second; ++c) group_of[static_cast<std::size_t>(c)] = static_cast<int>(g);
-  }
+  const std::vector<int> group_of = scan.column_group_of();
   // The largest instance touching each small one.
   for (int r = 0; r < scan.rows; ++r) {
     for (int c = 0; c < scan.cols; ++c) {

@@ -47,11 +47,7 @@ Segmentation label_moving_instances(const Scan& scan, const std::vector<std::uin
     if (scan.valid[i]) out.labels[i] = Segmentation::kStatic;
   }
   // Column group of each column, for neighbours across stitched seams only.
-  std::vector<int> group_of(static_cast<std::size_t>(scan.cols), 0);
-  const auto groups = scan.connected_column_groups();
-  for (std::size_t g = 0; g < groups.size(); ++g) {
-    for (int c = groups[g].first; c < groups[g].second; ++c) group_of[static_cast<std::size_t>(c)] = static_cast<int>(g);
-  }
+  const std::vector<int> group_of = scan.column_group_of();
   // a = (r, c), b = (r + dr, c + dc): neighbours.
   const auto joins = [&](std::size_t a, std::size_t b, int r, int c, int dr, int dc) {
     const double ra = scan.range_m[a], rb = scan.range_m[b];

@@ -59,6 +59,15 @@ std::vector<std::pair<int, int>> Scan::connected_column_groups() const {
   return groups;
 }
 
+std::vector<int> Scan::column_group_of() const {
+  std::vector<int> group_of(static_cast<std::size_t>(cols), 0);
+  const auto groups = connected_column_groups();
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    for (int c = groups[g].first; c < groups[g].second; ++c) group_of[static_cast<std::size_t>(c)] = static_cast<int>(g);
+  }
+  return group_of;
+}
+
 void Scan::validate_layout() const {
   FMCW_CHECK_ARG(rows >= 0 && cols >= 0, "scan: negative size ", rows, " x ", cols);
   const std::size_t n = size();

@@ -56,6 +56,9 @@ struct Scan {
 
   /// Column spans that are one connected image: heads joined by stitched seams, [begin, end).
   std::vector<std::pair<int, int>> connected_column_groups() const;
+  /// For each image column, the index of its span in connected_column_groups(): two columns
+  /// are image neighbours only within one group.
+  std::vector<int> column_group_of() const;
 
   /// Checks array sizes and head spans. Throws std::invalid_argument naming the field.
   void validate_layout() const;
