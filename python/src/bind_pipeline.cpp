@@ -66,7 +66,8 @@ void bind_pipeline(py::module_& m) {
       .def_readwrite("noise_sigma_mps", &core::EgoTwistParams::noise_sigma_mps)
       .def_readwrite("inlier_threshold_mps", &core::EgoTwistParams::inlier_threshold_mps)
       .def_readwrite("ransac_iterations", &core::EgoTwistParams::ransac_iterations)
-      .def_readwrite("estimate_yaw_rate", &core::EgoTwistParams::estimate_yaw_rate);
+      .def_readwrite("estimate_yaw_rate", &core::EgoTwistParams::estimate_yaw_rate)
+      .def_readwrite("lateral_velocity_sigma_mps", &core::EgoTwistParams::lateral_velocity_sigma_mps);
   py::class_<core::InstanceParams>(m, "InstanceParams", "Moving instances by range and Doppler (method robust).")
       .def_readwrite("max_range_gap_m", &core::InstanceParams::max_range_gap_m)
       .def_readwrite("max_doppler_step_mps", &core::InstanceParams::max_doppler_step_mps)

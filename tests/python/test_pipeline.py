@@ -56,6 +56,20 @@ def test_params_reach_the_method():
         fmcw.MotionPipeline(params)
 
 
+def test_the_lateral_pull_and_the_weak_direction_rule_are_settable():
+    # tracked assumes a vehicle rig (no sideways slide at the origin); robust does not.
+    assert fmcw.MotionPipelineParams("tracked").ego.lateral_velocity_sigma_mps == 0.1
+    assert fmcw.MotionPipelineParams("robust").ego.lateral_velocity_sigma_mps == 0.0
+    params = fmcw.MotionPipelineParams("tracked")
+    params.ego.lateral_velocity_sigma_mps = -1.0
+    with pytest.raises(ValueError, match="lateral_velocity_sigma_mps"):
+        fmcw.MotionPipeline(params)
+    params = fmcw.MotionPipelineParams("robust")
+    params.max_weak_sigma_mps = 0.0
+    with pytest.raises(ValueError, match="max_weak_sigma_mps"):
+        fmcw.MotionPipeline(params)
+
+
 def test_same_seed_same_result_any_thread_count():
     scan, _ = make_scan()
     one = fmcw.MotionPipeline("paper", seed=7, num_threads=1).process(scan)
