@@ -301,34 +301,30 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
   const Eigen::Matrix2d R = rotation(yaw_);
   const Eigen::Vector3d omega(0.0, 0.0, w_ego);
   const std::vector<Eigen::Vector3d> col_origin = column_origins(scan);
-  // Pixels on the edge of the view (the top and bottom rows, each head's first and last
-  // column): an object's outline that runs there is cut by the view, not by the body.
-  std::vector<std::uint8_t> view_edge(scan.size(), 0);
-  for (int c = 0; c < scan.cols; ++c) {
-    view_edge[scan.index(0, c)] = 1;
-    view_edge[scan.index(scan.rows - 1, c)] = 1;
+  // The edge of the view: the top and bottom rows and each head's first and last column. An
+  // object's outline that runs there is cut by the view, not by the body. Per column, the head
+  // whose edge it is (-1 inside a head).
+  std::vector<int> edge_head(static_cast<std::size_t>(scan.cols), -1);
+  for (std::size_t h = 0; h < scan.heads.size(); ++h) {
+    edge_head[static_cast<std::size_t>(scan.heads[h].col_begin)] = static_cast<int>(h);
+    edge_head[static_cast<std::size_t>(scan.heads[h].col_end - 1)] = static_cast<int>(h);
   }
-  for (const HeadInfo& h : scan.heads) {
-    for (int r = 0; r < scan.rows; ++r) {
-      view_edge[scan.index(r, h.col_begin)] = 1;
-      view_edge[scan.index(r, h.col_end - 1)] = 1;
-    }
-  }
-  // Where the view cuts at an edge pixel, in the world's plane: away from the head's axis at a
-  // column edge, towards the sensor at the bottom row (row 0 is the top; what lies lower and
-  // nearer is unseen), away from it at the top row. A corner pixel cuts both ways.
   struct Cut {
     Eigen::Vector2d direction;
     Eigen::Vector2d at;  // the edge pixel, world plane
   };
+  // Where the view cuts at pixel i (world point `at`), if it is on the edge: away from the
+  // head's axis at a column edge, towards the sensor at the bottom row (row 0 is the top; what
+  // lies lower and nearer is unseen), away from it at the top row. A corner cuts both ways.
   auto add_cuts = [&](std::uint32_t i, const Eigen::Vector2d& at, std::vector<Cut>& cuts) {
     const int c = static_cast<int>(i % static_cast<std::uint32_t>(scan.cols));
     const int r = static_cast<int>(i / static_cast<std::uint32_t>(scan.cols));
+    const int head = edge_head[static_cast<std::size_t>(c)];
+    if (head < 0 && r != 0 && r != scan.rows - 1) return;
     const Eigen::Vector3d ray = scan.position(i) - col_origin[static_cast<std::size_t>(c)];
     const Eigen::Vector2d d = (R * ray.head<2>()).normalized();
-    const HeadInfo& h = scan.heads[static_cast<std::size_t>(scan.head_of_col(c))];
-    if (c == h.col_begin || c == h.col_end - 1) {
-      const Eigen::Vector2d axis = R * h.T_rig_head.linear().col(0).head<2>();
+    if (head >= 0) {
+      const Eigen::Vector2d axis = R * scan.heads[static_cast<std::size_t>(head)].T_rig_head.linear().col(0).head<2>();
       const Eigen::Vector2d n(-d.y(), d.x());
       cuts.push_back({n.dot(axis) > 0.0 ? Eigen::Vector2d(-n) : n, at});
     }
@@ -512,7 +508,7 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     for (std::size_t n = first; n < own; ++n) {
       const Eigen::Vector3d q = scan.position(g.pixels[n]);
       pts.push_back(world_xy(q));
-      if (view_edge[g.pixels[n]] != 0) add_cuts(g.pixels[n], pts.back(), cuts);
+      add_cuts(g.pixels[n], pts.back(), cuts);
       ref += pts.back();
       zmin = std::min(zmin, q.z());
       zmax = std::max(zmax, q.z());
