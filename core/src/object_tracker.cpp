@@ -24,6 +24,8 @@ void TrackerParams::validate() const {
   FMCW_CHECK_ARG(small_object_m >= 0.0 && small_position_sigma_m > 0.0 && small_doppler_floor_mps > 0.0 &&
                      small_initial_tangential_sigma_mps > 0.0,
                  "tracking: small_object_m must be >= 0, the small-object noises > 0");
+  FMCW_CHECK_ARG(walker_hits >= 0 && walker_max_speed_mps > 0.0,
+                 "tracking: walker_hits must be >= 0 (0: no walkers), walker_max_speed_mps > 0");
   FMCW_CHECK_ARG(accel_sigma_mps2 > 0.0 && yaw_accel_sigma_rps2 > 0.0,
                  "tracking: process noise must be > 0");
   FMCW_CHECK_ARG(initial_yaw_rate_sigma_rps > 0.0 && max_initial_velocity_sigma_mps > 0.0,
@@ -469,7 +471,20 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
 
   // Measurement update of every track that has pixels this frame.
   const double sensor_w = 1.0 / (p.doppler_sigma_mps * p.doppler_sigma_mps);
-  auto measure = [&](Track& tr, const Group& g, bool born) {
+  auto measure = [&](Track& tr, const Group& whole, bool born) {
+    // A walker's own pixels: those inside its predicted box, grown by claim_margin_m (the
+    // walker beside it may share its cluster). Found pixels first, then claimed, as in whole.
+    Group mine;
+    if (tr.walker && !born) {
+      const Box b = box_of(tr);
+      const std::size_t found = whole.pixels.size() - static_cast<std::size_t>(whole.claimed);
+      for (std::size_t n = 0; n < whole.pixels.size(); ++n) {
+        if (!b.contains(world_xy(scan.position(whole.pixels[n])), p.claim_margin_m)) continue;
+        mine.pixels.push_back(whole.pixels[n]);
+        if (n >= found) ++mine.claimed;
+      }
+    }
+    const Group& g = mine.pixels.empty() ? whole : mine;
     // Box: heading from the velocity once the object moves, extents in that frame, centre
     // anchored at the visible end when less than the whole length is seen.
     const Eigen::Vector2d v = tr.velocity();
@@ -525,8 +540,12 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     Eigen::Vector2d centre = tr.centre();
     if (own > first) {
       if (!centre_from_claims) {
-        tr.length_m = std::min(resize ? a1 - a0 : std::max(tr.length_m, a1 - a0), p.max_length_m);
-        tr.width_m = std::min(resize ? b1 - b0 : std::max(tr.width_m, b1 - b0), p.max_width_m);
+        // A walker stays small (just under small_object_m: the limbs reach out of its box).
+        const double walker_cap = std::nextafter(p.small_object_m, 0.0);
+        const double cap_l = tr.walker ? walker_cap : p.max_length_m;
+        const double cap_w = tr.walker ? walker_cap : p.max_width_m;
+        tr.length_m = std::min(resize ? a1 - a0 : std::max(tr.length_m, a1 - a0), cap_l);
+        tr.width_m = std::min(resize ? b1 - b0 : std::max(tr.width_m, b1 - b0), cap_w);
         tr.z_min_m = zmin;  // this frame's: the ground under an object changes at curbs
         // A walker inside the band shows only its swinging limbs: its top stays where it was.
         tr.z_max_m = small_track && !born ? std::max(zmax, tr.z_max_m) : zmax;
@@ -558,7 +577,18 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
         if (born) return 0.5 * (lo + hi);
         return std::clamp(pc.dot(axis), hi - 0.5 * size, lo + 0.5 * size);
       };
-      centre = ref + anchor(u, a0, a1, tr.length_m) * u + anchor(wv, b0, b1, tr.width_m) * wv;
+      if (tr.walker) {
+        std::vector<double> cu, cw;
+        cu.reserve(pts.size());
+        cw.reserve(pts.size());
+        for (const Eigen::Vector2d& q : pts) {
+          cu.push_back((q - ref).dot(u));
+          cw.push_back((q - ref).dot(wv));
+        }
+        centre = ref + upper_median(cu) * u + upper_median(cw) * wv;
+      } else {
+        centre = ref + anchor(u, a0, a1, tr.length_m) * u + anchor(wv, b0, b1, tr.width_m) * wv;
+      }
     }
     if (born) {  // the velocity prior already holds this frame's Doppler
       tr.x.head<2>() = centre;
@@ -650,6 +680,10 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
       tr.misses = 0;
     }
     if (tr.hits >= p.confirm_hits) tr.confirmed = true;
+    if (!groups[t].pixels.empty())
+      tr.small_hits = std::max(tr.length_m, tr.width_m) < p.small_object_m ? tr.small_hits + 1 : 0;
+    const bool slow = tr.velocity().norm() < p.walker_max_speed_mps;
+    tr.walker = slow && (tr.walker || (p.walker_hits > 0 && tr.small_hits >= p.walker_hits));
     tr.slow_frames = tr.velocity().norm() < p.carry_min_speed_mps ? tr.slow_frames + 1 : 0;
     // Turning once the yaw rate is resolved on a track of some age; still turning while it
     // stays above the minimum and turn_release_significance standard deviations (the box

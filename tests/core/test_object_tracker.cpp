@@ -275,6 +275,16 @@ TEST(ObjectTracker, TheCentreOfACarLeavingTheViewStaysOnTheCar) {
   EXPECT_GT(without, 0.4);
 }
 
+// Gives cluster b's pixels cluster a's label, as one scan labels two bodies that touch in the
+// image and in Doppler (b keeps its entry, now without pixels).
+void merge_clusters(MotionEstimate& e, const ClusterEstimate& a, const ClusterEstimate& b) {
+  const std::int32_t kept = a.id;
+  const std::int32_t gone = b.id;
+  for (std::int32_t& l : e.labels) {
+    if (l == gone) l = kept;
+  }
+}
+
 // Runs the tracker on two cars driving away at one speed, one 2 m behind the other, left of
 // the rig; one scan separates them. With `merge`, from frame 10 on the estimate handed to the
 // tracker holds both cars in one cluster (as one scan makes of two such cars when they touch
@@ -306,13 +316,7 @@ std::vector<TwoCars> two_cars_in_line(bool merge, double split_min_share) {
       ADD_FAILURE() << "frame " << k << ": one scan does not separate the cars";
       return out;
     }
-    if (merge && k >= 10) {
-      const std::int32_t kept = a->id;
-      const std::int32_t gone = b->id;
-      for (std::int32_t& l : e.labels) {
-        if (l == gone) l = kept;
-      }
-    }
+    if (merge && k >= 10) merge_clusters(e, *a, *b);
     tracker.update(f.scan, e);
     if (k < 10) continue;
     TwoCars cars;
@@ -344,6 +348,113 @@ TEST(ObjectTracker, TwoCarsInOneClusterAreSplitAsOneScanWouldHaveSeparatedThem) 
   }
   // Control: with splitting off (no box holds 1e9 times what its track had), they are one.
   for (const TwoCars& cars : two_cars_in_line(true, 1e9)) EXPECT_EQ(cars.track[0], 0);
+}
+
+// Runs the tracker on a walker 15 m ahead crossing at 1.2 m/s, a second one 0.9 m behind it
+// from frame 8 on; the estimate handed to the tracker holds both in one cluster (walkers in
+// file at one speed touch in the image and in Doppler). Returns, over frames 14 .. 29, the
+// frames in which the first walker's cluster carries no track, and over the others the largest
+// error of its reported velocity, yaw rate and centre.
+struct WalkerErrors {
+  int untracked = 0;
+  double velocity = 0.0;
+  double yaw_rate = 0.0;
+  double centre = 0.0;
+};
+
+WalkerErrors walker_beside_another(int walker_hits) {
+  MotionPipeline robust(MotionPipelineParams::preset("robust"));
+  TrackerParams tp;
+  tp.walker_hits = walker_hits;
+  ObjectTracker tracker(tp);
+  const Eigen::Vector3d v(0.0, 1.2, 0.0);
+  WalkerErrors err;
+  for (int k = 0; k < 30; ++k) {
+    SyntheticBox first;
+    first.center_m = Eigen::Vector3d(15.0, -2.0 + v.y() * k * kDt, 0.9);
+    first.half_extent_m = Eigen::Vector3d(0.25, 0.3, 0.9);
+    first.velocity_mps = v;
+    std::vector<SyntheticBox> actors{first};
+    if (k >= 8) {
+      SyntheticBox second = first;
+      second.center_m.y() -= 0.9;
+      actors.push_back(second);
+    }
+    const Frame f = render_actors(k, actors);
+    MotionEstimate e = robust.process(f.scan, static_cast<std::uint64_t>(k));
+    const ClusterEstimate* a = actor_cluster(f, e, 1);
+    const ClusterEstimate* b = k >= 8 ? actor_cluster(f, e, 2) : nullptr;
+    if (a != nullptr && b != nullptr && a != b) merge_clusters(e, *a, *b);
+    tracker.update(f.scan, e);
+    if (k < 14) continue;
+    const ClusterEstimate* c = actor_cluster(f, e, 1);
+    if (c == nullptr || c->track_id == 0) {
+      ++err.untracked;
+      continue;
+    }
+    err.velocity = std::max(err.velocity, (c->velocity.velocity_mps - v).norm());
+    err.yaw_rate = std::max(err.yaw_rate, std::abs(c->yaw_rate_rps));
+    err.centre = std::max(err.centre, (c->centre_m.head<2>() - first.center_m.head<2>()).norm());
+  }
+  return err;
+}
+
+TEST(ObjectTracker, AWalkerSharingItsClusterWithTheNextStaysAWalker) {
+  // The reported centre is the median of the visible pixels: 0.25 m before the true one, on
+  // the face towards the rig.
+  const WalkerErrors walker = walker_beside_another(TrackerParams{}.walker_hits);
+  EXPECT_EQ(walker.untracked, 0);
+  EXPECT_LT(walker.velocity, 0.3);
+  EXPECT_EQ(walker.yaw_rate, 0.0);
+  EXPECT_LT(walker.centre, 0.35);
+  // Control: with no walkers, the box grows over both; the track, a rigid body now, no longer
+  // explains the cluster, loses it and starts again.
+  const WalkerErrors rigid = walker_beside_another(0);
+  EXPECT_GT(rigid.untracked, 3);
+  EXPECT_GT(rigid.velocity, 0.5);
+}
+
+// Largest velocity error, over frames 20 .. 39, of a walker 5 m to the right walking away at
+// 1.3 m/s whose leg (a box below the torso) swings 0.3 m ahead of it and behind it.
+double striding_walker_velocity_error(int walker_hits) {
+  MotionPipelineParams params = MotionPipelineParams::preset("tracked");
+  params.tracking.walker_hits = walker_hits;
+  MotionPipeline tracked(params);
+  const Eigen::Vector3d v(1.3, 0.0, 0.0);
+  const double w = 2.0 * M_PI * 0.9;  // stride angular frequency [rad/s]
+  double worst = 0.0;
+  for (int k = 0; k < 40; ++k) {
+    const double t = k * kDt;
+    SyntheticBox torso;
+    torso.center_m = Eigen::Vector3d(6.0 + v.x() * t, -5.0, 1.3);
+    torso.half_extent_m = Eigen::Vector3d(0.2, 0.25, 0.5);
+    torso.velocity_mps = v;
+    SyntheticBox leg = torso;
+    leg.center_m = Eigen::Vector3d(torso.center_m.x() + 0.3 * std::sin(w * t), -5.0, 0.4);
+    leg.half_extent_m = Eigen::Vector3d(0.1, 0.1, 0.4);
+    leg.velocity_mps = v + Eigen::Vector3d(0.3 * w * std::cos(w * t), 0.0, 0.0);
+    const Frame f = render_actors(k, {torso, leg});
+    const MotionEstimate e = tracked.process(f.scan, static_cast<std::uint64_t>(k));
+    if (k < 20) continue;
+    const ClusterEstimate* c = actor_cluster(f, e, 1);
+    if (c == nullptr || c->track_id == 0) {
+      ADD_FAILURE() << "frame " << k << ": the walker has no tracked cluster";
+      return std::numeric_limits<double>::infinity();
+    }
+    worst = std::max(worst, (c->velocity.velocity_mps - v).norm());
+  }
+  return worst;
+}
+
+TEST(ObjectTracker, AStridingLegDoesNotMoveAWalkersCentre) {
+  // A walker's centre is the median of its pixels: the torso's.
+  const double median_centre = striding_walker_velocity_error(TrackerParams{}.walker_hits);
+  EXPECT_LT(median_centre, 0.1);
+  // Control: without walkers the centre hangs on the end of the outline nearest the rig, the
+  // trailing foot, and its path swings with the stride.
+  const double outline_end = striding_walker_velocity_error(0);
+  EXPECT_GT(outline_end, 0.13);
+  EXPECT_GT(outline_end, 2.0 * median_centre);
 }
 
 TEST(ObjectTracker, ResetsWhenTimeGoesBackOrJumps) {

@@ -33,6 +33,15 @@ struct TrackerParams {
   double small_position_sigma_m = 0.15;        ///< box-centre noise of a small object [m]
   double small_doppler_floor_mps = 0.05;       ///< floor of its mean-Doppler noise (gait) [m/s]
   double small_initial_tangential_sigma_mps = 1.5;  ///< its tangential velocity at birth [m/s]
+  /// A track small for walker_hits consecutive updates and slower than walker_max_speed_mps is
+  /// a walker, and stays one while it stays that slow: walkers side by side at one speed make
+  /// one cluster, and a box grown over two of them would turn the walker into a rigid body
+  /// with a yaw rate. A walker's own pixels are those inside its predicted box (grown by
+  /// claim_margin_m), its box stays under small_object_m, and its centre is the median of its
+  /// pixels along the box axes (the torso: the limbs swing about it, and an end of the
+  /// outline is a foot or a hand).
+  int walker_hits = 3;
+  double walker_max_speed_mps = 3.0;
   /// A small object wholly inside the blind band is seen only through the pixels its track
   /// claims; their centre is a weak measurement of its position (they may include whatever
   /// stands close by) [m].
@@ -111,12 +120,16 @@ struct Track {
   int slow_frames = 0;       ///< consecutive frames slower than carry_min_speed_mps
   bool confirmed = false;    ///< hits >= confirm_hits at some point
   bool turning = false;      ///< yaw rate resolved (see TrackerParams::turn_significance)
+  int small_hits = 0;        ///< consecutive updates with a box under small_object_m
+  bool walker = false;       ///< see TrackerParams::walker_hits
 
   Eigen::Vector2d centre() const { return x.head<2>(); }
   Eigen::Vector2d velocity() const { return x.segment<2>(2); }
   double yaw_rate() const { return x(4); }
-  /// Box under small_object_m on both axes (a walker): see TrackerParams::small_object_m.
-  bool small(const TrackerParams& p) const { return std::max(length_m, width_m) < p.small_object_m; }
+  /// A walker, or a box under small_object_m on both axes: see TrackerParams::small_object_m.
+  bool small(const TrackerParams& p) const {
+    return walker || std::max(length_m, width_m) < p.small_object_m;
+  }
   /// At least vehicle_length_m long: see TrackerParams::vehicle_length_m.
   bool vehicle(const TrackerParams& p) const { return length_m >= p.vehicle_length_m; }
   /// Confirmed, recently seen and moving: its pixels stay "moving" inside the blind band.
