@@ -102,6 +102,34 @@ TEST_F(Cli, BadInputGivesOneClearLineAndNonZeroExit) {
   EXPECT_NE(r.output.find("magic"), std::string::npos) << r.output;
 }
 
+TEST_F(Cli, AFrameThatFailsLeavesNoOutputBehind) {
+  // A dataset folder whose second frame has no valid pixel: the run stops there with its error,
+  // and the first frame's labelled cloud, written before, is gone with the folders made for it.
+  fs::create_directories(dir_ / "ds" / "frames");
+  ASSERT_EQ(run("synth -o " + p("ds/frames/000000.pcd") + " --objects 3 --seed 1").code, 0);
+  std::ofstream(p("ds/frames/000001.pcd"))
+      << "VERSION 0.7\nFIELDS x y z v\nSIZE 4 4 4 4\nTYPE F F F F\nWIDTH 2\nHEIGHT 2\nPOINTS 4\nDATA ascii\n"
+      << "nan nan nan nan\nnan nan nan nan\nnan nan nan nan\nnan nan nan nan\n";
+  CliResult r = run("process " + p("ds") + " -o " + p("out"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("000001.pcd: scan has no valid pixels"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "out")) << "the folder the run made is removed";
+  // Into a folder that holds other files already: those stay, nothing of the run does.
+  fs::create_directories(dir_ / "mine");
+  std::ofstream(p("mine/notes.txt")) << "keep\n";
+  r = run("process " + p("ds") + " -o " + p("mine"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(slurp(dir_ / "mine" / "notes.txt"), "keep\n");
+  std::vector<std::string> left;
+  for (const auto& e : fs::recursive_directory_iterator(dir_ / "mine")) left.push_back(e.path().filename().string());
+  EXPECT_EQ(left, std::vector<std::string>{"notes.txt"});
+  // Control: the first frame alone goes through and leaves its labelled cloud.
+  fs::remove(dir_ / "ds" / "frames" / "000001.pcd");
+  r = run("process " + p("ds") + " -o " + p("out"));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "labels" / "000000.pcd"));
+}
+
 TEST_F(Cli, BenchJsonNamesBothMethodsWithPointsPerSecond) {
   const CliResult r = run("bench --json --objects 4 --repeats 2");
   ASSERT_EQ(r.code, 0) << r.output;

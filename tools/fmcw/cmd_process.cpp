@@ -24,16 +24,10 @@ struct ProcessOptions {
   InputFlags input;
 };
 
-int run_process(const ProcessOptions& opt) {
-  const io::InputOptions input = opt.input.resolve();
-  const std::vector<std::string> files = io::list_input_files(opt.input.path, input.format);
-  io::ensure_writable_directory(opt.output);
-  core::MotionPipelineParams params = core::MotionPipelineParams::preset(opt.method);
-  params.seed = opt.seed;
-  params.num_threads = opt.threads;
-  core::MotionPipeline pipeline(params);
-  const fs::path label_dir = fs::path(opt.output) / "labels";
-  if (!opt.no_clouds) io::ensure_writable_directory(label_dir.string());
+// Runs the pipeline on every file, writing each frame's labelled cloud (recorded in `written`)
+// and, once all are done, the tables.
+void process_frames(const ProcessOptions& opt, const io::InputOptions& input, const std::vector<std::string>& files,
+                    core::MotionPipeline& pipeline, const fs::path& label_dir, std::vector<fs::path>& written) {
   io::ResultsWriter writer(opt.output);
   for (std::size_t k = 0; k < files.size(); ++k) {
     const io::InputFrame in = io::read_input_frame(files[k], input);
@@ -44,8 +38,9 @@ int run_process(const ProcessOptions& opt) {
     writer.add(k, files[k], est);
     if (!opt.no_clouds) {
       // Labelled clouds are PCD whatever the input: an Aeva scan's labels go to NAME.pcd.
-      const std::string name = fs::path(files[k]).stem().string() + ".pcd";
-      io::write_labelled_pcd((label_dir / name).string(), frame.scan, est);
+      const fs::path name = label_dir / (fs::path(files[k]).stem().string() + ".pcd");
+      written.push_back(name);
+      io::write_labelled_pcd(name.string(), frame.scan, est);
     }
     const Eigen::Vector3d& v = est.ego.velocity_mps;
     std::cerr << "[" << k + 1 << "/" << files.size() << "] " << files[k] << ": " << est.clusters.size()
@@ -53,10 +48,38 @@ int run_process(const ProcessOptions& opt) {
               << est.timing.total_ms << " ms\n";
   }
   writer.finish();
+}
+
+int run_process(const ProcessOptions& opt) {
+  const io::InputOptions input = opt.input.resolve();
+  const std::vector<std::string> files = io::list_input_files(opt.input.path, input.format);
+  core::MotionPipelineParams params = core::MotionPipelineParams::preset(opt.method);
+  params.seed = opt.seed;
+  params.num_threads = opt.threads;
+  core::MotionPipeline pipeline(params);
+  const fs::path out_dir(opt.output);
+  const fs::path label_dir = out_dir / "labels";
+  std::error_code ec;
+  const bool made_out = !fs::exists(out_dir, ec);
+  const bool made_labels = !opt.no_clouds && !fs::exists(label_dir, ec);
+  io::ensure_writable_directory(opt.output);
+  if (!opt.no_clouds) io::ensure_writable_directory(label_dir.string());
+  // A frame that fails stops the run with its error; the labelled clouds written before it go
+  // too (and the folders this run made, if nothing else is in them): no half-written output.
+  std::vector<fs::path> written;
+  try {
+    process_frames(opt, input, files, pipeline, label_dir, written);
+  } catch (...) {
+    for (const fs::path& f : written) fs::remove(f, ec);
+    if (made_labels && fs::is_empty(label_dir, ec)) fs::remove(label_dir, ec);
+    if (made_out && fs::is_empty(out_dir, ec)) fs::remove(out_dir, ec);
+    throw;
+  }
   std::cerr << "wrote " << opt.output << "/{ego.csv,objects.csv,timing.csv,results.json}"
             << (opt.no_clouds ? "" : " and labels/*.pcd") << "\n";
   return 0;
 }
+
 }  // namespace
 
 Action add_process_command(CLI::App& app) {
