@@ -457,6 +457,57 @@ TEST(ObjectTracker, AStridingLegDoesNotMoveAWalkersCentre) {
   EXPECT_GT(outline_end, 2.0 * median_centre);
 }
 
+// A car 20 m ahead crossing to the left at 6 m/s, born with the velocity its first scan would
+// give if the tangential part were unobserved: the radial part only, heading 73 degrees off.
+// Returns its track's width (across the heading) after 25 frames; the car is 1.8 m wide.
+double width_after_a_poor_first_heading(double heading_reset_rad) {
+  MotionPipeline robust(MotionPipelineParams::preset("robust"));
+  TrackerParams tp;
+  tp.heading_reset_rad = heading_reset_rad;
+  ObjectTracker tracker(tp);
+  const Eigen::Vector3d v(0.0, 6.0, 0.0);
+  std::int32_t track = 0;
+  for (int k = 0; k < 25; ++k) {
+    SyntheticBox car;
+    car.center_m = Eigen::Vector3d(20.0, -6.0 + v.y() * k * kDt, 0.8);
+    car.half_extent_m = Eigen::Vector3d(2.2, 0.9, 0.8);
+    car.yaw_rad = 0.5 * M_PI;
+    car.velocity_mps = v;
+    const Frame f = render_actors(k, {car});
+    MotionEstimate e = robust.process(f.scan, static_cast<std::uint64_t>(k));
+    if (k == 0) {
+      const ClusterEstimate* c = actor_cluster(f, e, 1);
+      if (c == nullptr) {
+        ADD_FAILURE() << "no cluster on the car";
+        return std::numeric_limits<double>::infinity();
+      }
+      ClusterEstimate& first = e.clusters[static_cast<std::size_t>(c->id - 1)];
+      const Eigen::Vector3d radial = Eigen::Vector3d(c->centroid_m.x(), c->centroid_m.y(), 0.0).normalized();
+      const Eigen::Vector3d tangential(-radial.y(), radial.x(), 0.0);
+      first.velocity.velocity_mps = radial * radial.dot(v);
+      first.velocity.covariance = radial * radial.transpose() * 0.01 + tangential * tangential.transpose() * 100.0 +
+                                  Eigen::Vector3d::UnitZ() * Eigen::Vector3d::UnitZ().transpose() * 0.01;
+    }
+    tracker.update(f.scan, e);
+    const ClusterEstimate* c = actor_cluster(f, e, 1);
+    if (c != nullptr && c->track_id > 0) track = c->track_id;
+  }
+  for (const Track& t : tracker.tracks()) {
+    if (t.id == track) return t.width_m;
+  }
+  ADD_FAILURE() << "the car has no track";
+  return std::numeric_limits<double>::infinity();
+}
+
+TEST(ObjectTracker, ABoxMeasuredAlongAPoorFirstHeadingIsMeasuredAgain) {
+  // Once the velocity has turned to the car's true heading, the extents are measured along it.
+  const double width = width_after_a_poor_first_heading(TrackerParams{}.heading_reset_rad);
+  EXPECT_LT(width, 2.2);
+  // Control: never measured again, the box keeps the width it had across the first heading.
+  const double kept = width_after_a_poor_first_heading(10.0);
+  EXPECT_GT(kept, 3.0);
+}
+
 TEST(ObjectTracker, ResetsWhenTimeGoesBackOrJumps) {
   const auto car = [](double t) {
     SyntheticBox b;
