@@ -155,17 +155,26 @@ std::vector<BlindBandActor> blind_band_actors(const core::Scan& scan, const core
                  n, " pixels");
   const ActorIndex bodies(truth, "blind band");
   std::map<std::uint32_t, BlindBandActor> actors;
+  // An actor's pixels come in runs along a row: look it up when the instance changes.
+  std::uint32_t current = 0;
+  const core::ActorTruth* body = nullptr;
+  BlindBandActor* tally = nullptr;
   for (int r = 0; r < scan.rows; ++r) {
     for (int col = 0; col < scan.cols; ++col) {
       const std::size_t i = scan.index(r, col);
       if (!scan.valid[i] || !gt.moving[i] || gt.instance[i] == 0) continue;
-      const core::ActorTruth& t = bodies[gt.instance[i]];
+      if (gt.instance[i] != current) {
+        current = gt.instance[i];
+        body = &bodies[current];
+        tally = &actors[current];
+        tally->actor_id = current;
+      }
+      const core::ActorTruth& t = *body;
       const Eigen::Vector3d p = scan.position(i);
       const Eigen::Vector3d e = (p - scan.beam_origin(i)).normalized();
       const Eigen::Vector3d v_body = t.velocity_rig_mps + t.angular_velocity_rig_rps.cross(p - t.position_rig_m);
       const bool detected = estimate.labels[i] >= 1;
-      BlindBandActor& a = actors[gt.instance[i]];
-      a.actor_id = gt.instance[i];
+      BlindBandActor& a = *tally;
       if (std::abs(e.dot(v_body)) < band_mps) {
         ++a.band_pixels;
         a.band_detected += detected ? 1 : 0;
