@@ -46,6 +46,9 @@ void TrackerParams::validate() const {
                  "claim_position_sigma_m must be > 0, absorb_max_pixels >= 0");
   FMCW_CHECK_ARG(claim_doppler_tolerance_mps > 0.0,
                  "tracking: claim_doppler_tolerance_mps must be > 0");
+  FMCW_CHECK_ARG(background_min_frames >= 0 && background_margin_m > 0.0 && background_label_m >= 0.0,
+                 "tracking: background_min_frames must be >= 0 (0: no background), background_margin_m > 0, "
+                 "background_label_m >= 0");
   FMCW_CHECK_ARG(max_length_m > 0.0 && max_width_m > 0.0, "tracking: box size caps must be > 0");
   FMCW_CHECK_ARG(split_min_share > 0.0, "tracking: split_min_share must be > 0 (above 1: never split), got ",
                  split_min_share);
@@ -258,6 +261,7 @@ struct Group {
   std::vector<std::int32_t> clusters;  // labels merged into it
   std::vector<std::int32_t> absorbed;  // labels merged into its label but not measured
   int claimed = 0;
+  std::vector<std::uint32_t> labelled;  // static pixels that take its label, not measured
 };
 }  // namespace
 
@@ -270,6 +274,8 @@ void ObjectTracker::reset() {
   position_.setZero();
   last_ego_velocity_.setZero();
   last_ego_yaw_rate_ = 0.0;
+  background_range_m_.clear();
+  background_frames_ = 0;
 }
 
 void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
@@ -295,6 +301,27 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
   } else {
     dt = 0.0;
   }
+  // The background is the farthest range per pixel since the rig stopped; it starts again
+  // whenever the rig moves (or the scan's shape changes).
+  if ((!est.ego_standing && background_frames_ > 0) || background_range_m_.size() != scan.size()) {
+    background_range_m_.assign(scan.size(), 0.0f);
+    background_frames_ = 0;
+  }
+  const bool background_ready = p.background_min_frames > 0 && background_frames_ >= p.background_min_frames;
+  // Nearer than the farthest range its 3 x 3 neighbourhood has seen (by the margin): something
+  // has come into space the beams saw empty. The neighbourhood's least such range keeps the
+  // edge of a static body, whose pixels see it in one frame and what lies behind in the next,
+  // out of it.
+  auto foreground = [&](std::size_t i) {
+    const int r0 = static_cast<int>(i / static_cast<std::size_t>(scan.cols));
+    const int c0 = static_cast<int>(i % static_cast<std::size_t>(scan.cols));
+    float far = std::numeric_limits<float>::infinity();
+    for (int r = std::max(r0 - 1, 0); r <= std::min(r0 + 1, scan.rows - 1); ++r) {
+      for (int c = std::max(c0 - 1, 0); c <= std::min(c0 + 1, scan.cols - 1); ++c)
+        far = std::min(far, background_range_m_[scan.index(r, c)]);
+    }
+    return static_cast<double>(scan.range_m[i]) < static_cast<double>(far) - p.background_margin_m;
+  };
   has_pose_ = true;
   last_stamp_s_ = scan.stamp_s;
   last_ego_velocity_ = V;
@@ -449,23 +476,46 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
   for (std::size_t t = 0; t < tracks_.size(); ++t) {
     if (tracks_[t].carries(p)) carrying.push_back(t);
   }
+  // Besides, with the rig standing, static pixels that have come into space the beams saw empty
+  // take the label of the first carrying track near them (background_label_m), unmeasured.
   if (!carrying.empty()) {
+    // Each carrying box's reach, as half sides of an axis-aligned rectangle: a cheap first test.
+    const double reach = std::max(p.claim_margin_m, background_ready ? p.background_label_m : 0.0);
+    std::vector<Eigen::Vector2d> half_sides;
+    for (std::size_t t : carrying) {
+      const Box& b = boxes[t];
+      const double l = b.half_l + reach;
+      const double w = b.half_w + reach;
+      half_sides.emplace_back(std::abs(b.u.x()) * l + std::abs(b.u.y()) * w, std::abs(b.u.y()) * l + std::abs(b.u.x()) * w);
+    }
     for (std::size_t i = 0; i < est.labels.size(); ++i) {
       if (est.labels[i] != 0) continue;
       const Eigen::Vector3d q = scan.position(i);
       const Eigen::Vector2d qw = world_xy(q);
-      for (std::size_t t : carrying) {
+      int fg = background_ready ? -1 : 0;  // foreground: -1 not yet known, else 0 / 1
+      std::int32_t near_fg = -1;
+      bool taken = false;
+      for (std::size_t n = 0; n < carrying.size(); ++n) {
+        const std::size_t t = carrying[n];
+        const Eigen::Vector2d off = (qw - boxes[t].centre).cwiseAbs();
+        if (off.x() > half_sides[n].x() || off.y() > half_sides[n].y()) continue;
         const Track& tr = tracks_[t];
         if (q.z() < tr.z_min_m + p.claim_ground_clearance_m ||
             q.z() > tr.z_max_m + p.claim_margin_m)
           continue;
+        if (fg != 0 && near_fg < 0 && boxes[t].contains(qw, p.background_label_m)) {
+          if (fg < 0) fg = foreground(i) ? 1 : 0;
+          if (fg > 0) near_fg = static_cast<std::int32_t>(t);
+        }
         if (!boxes[t].contains(qw, p.claim_margin_m)) continue;
         const Row r = row_of(static_cast<std::uint32_t>(i));
         if (std::abs(r.y - predicted(r, tr.x)) > p.claim_doppler_tolerance_mps) continue;
         groups[t].pixels.push_back(static_cast<std::uint32_t>(i));
         ++groups[t].claimed;
+        taken = true;
         break;
       }
+      if (!taken && near_fg >= 0) groups[static_cast<std::size_t>(near_fg)].labelled.push_back(static_cast<std::uint32_t>(i));
     }
   }
 
@@ -774,6 +824,7 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
   }
   std::vector<std::int32_t> claimed_by(est.labels.size(), -1);
   for (std::size_t t = 0; t < n_groups; ++t) {
+    for (std::uint32_t i : groups[t].labelled) claimed_by[i] = static_cast<std::int32_t>(t);
     for (std::size_t n = groups[t].pixels.size() - static_cast<std::size_t>(groups[t].claimed);
          n < groups[t].pixels.size(); ++n) {
       claimed_by[groups[t].pixels[n]] = static_cast<std::int32_t>(t);
@@ -834,7 +885,7 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
             : est.clusters[static_cast<std::size_t>(g.clusters.front() - 1)].velocity.velocity_mps;
     ce.track_id = tr.id;
     ce.track_hits = tr.hits;
-    ce.carried_pixels = g.claimed;
+    ce.carried_pixels = g.claimed + static_cast<int>(g.labelled.size());
     ce.yaw_rate_rps = tr.yaw_rate();
     ce.centre_m = Eigen::Vector3d::Zero();
     ce.centre_m.head<2>() = Rt * (tr.centre() - position_);
@@ -872,6 +923,14 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     v.valid = true;
   }
   est.clusters = std::move(out);
+
+  if (est.ego_standing && p.background_min_frames > 0) {  // no return: the whole range empty
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      const float range = scan.valid[i] ? scan.range_m[i] : std::numeric_limits<float>::infinity();
+      background_range_m_[i] = std::max(background_range_m_[i], range);
+    }
+    ++background_frames_;
+  }
 
   tracks_.erase(std::remove_if(tracks_.begin(), tracks_.end(),
                                [&](const Track& t) { return t.misses > p.max_misses; }),

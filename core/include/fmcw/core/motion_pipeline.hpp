@@ -93,7 +93,7 @@ struct ClusterEstimate {
   /// With tracking: velocity holds the track's velocity at its centre; these say more.
   std::int32_t track_id = 0;  ///< 0 = not tracked
   int track_hits = 0;         ///< frames the track has been updated in
-  int carried_pixels = 0;     ///< pixels the track claimed that one scan labelled static
+  int carried_pixels = 0;     ///< pixels the track claimed or labelled that one scan labelled static
   double yaw_rate_rps = VelocityEstimate::kNaN;  ///< the track's yaw rate [rad/s]
   Eigen::Vector3d centre_m = Eigen::Vector3d::Constant(VelocityEstimate::kNaN);  ///< box centre, rig frame [m]
   Eigen::Vector3d scan_velocity_mps = Eigen::Vector3d::Constant(VelocityEstimate::kNaN);  ///< the single-scan estimate

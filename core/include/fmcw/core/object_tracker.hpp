@@ -82,6 +82,16 @@ struct TrackerParams {
   double claim_margin_m = 0.25;         ///< the predicted box grows by this when claiming pixels [m]
   double claim_ground_clearance_m = 0.12;  ///< claimed pixels lie this far above the track's lowest point [m]
   double claim_doppler_tolerance_mps = 0.25;  ///< claimed pixels' Doppler agrees with the track's motion
+  /// While the rig stands (the zero-velocity test holds), the tracker keeps per pixel the
+  /// farthest range seen since it stopped. A static pixel nearer than anything its 3 x 3
+  /// neighbourhood has seen, by background_margin_m, is something that has come into space the
+  /// beams saw empty; within background_label_m of a carrying track's box (and at its heights)
+  /// it takes that track's label without being measured: walkers crossing the beams in a group,
+  /// whose Doppler is zero whichever way they walk, beside the one whose track claims them.
+  /// Used once the background holds background_min_frames frames (0: never).
+  int background_min_frames = 5;
+  double background_margin_m = 0.3;
+  double background_label_m = 2.0;
   double max_length_m = 20.0;           ///< box size caps [m]
   double heading_reset_rad = 0.25;      ///< a heading swing beyond this (not turned by the yaw rate) re-measures the box
   double max_width_m = 4.0;
@@ -167,6 +177,10 @@ class ObjectTracker {
   Eigen::Vector2d position_ = Eigen::Vector2d::Zero();     ///< rig origin in the tracker's world
   Eigen::Vector3d last_ego_velocity_ = Eigen::Vector3d::Zero();
   double last_ego_yaw_rate_ = 0.0;
+  /// Per pixel, the farthest range seen since the rig stopped (infinite where a beam returned
+  /// nothing), and over how many frames.
+  std::vector<float> background_range_m_;
+  int background_frames_ = 0;
 };
 
 }  // namespace fmcw::core
