@@ -23,9 +23,9 @@ Eigen::Vector3d unit_beam(const Scan& scan, const std::vector<Eigen::Vector3d>& 
 // thousands of rows.
 constexpr std::size_t kScaleSamples = 4096;
 double robust_scale(const std::vector<double>& residual, double floor_sigma, std::vector<double>& scratch) {
-  const std::size_t stride = (residual.size() + kScaleSamples - 1) / kScaleSamples;
+  const std::size_t stride = std::max<std::size_t>(1, (residual.size() + kScaleSamples - 1) / kScaleSamples);
   scratch.clear();
-  for (std::size_t k = 0; k < residual.size(); k += std::max<std::size_t>(stride, 1)) scratch.push_back(std::abs(residual[k]));
+  for (std::size_t k = 0; k < residual.size(); k += stride) scratch.push_back(std::abs(residual[k]));
   return std::max(floor_sigma, 1.4826 * upper_median(scratch));
 }
 }  // namespace
