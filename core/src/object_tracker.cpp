@@ -66,7 +66,6 @@ using Vec5 = Eigen::Matrix<double, 5, 1>;
 using Mat5 = Eigen::Matrix<double, 5, 5>;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-
 Eigen::Matrix2d rotation(double yaw) {
   Eigen::Matrix2d r;
   r << std::cos(yaw), -std::sin(yaw), std::sin(yaw), std::cos(yaw);

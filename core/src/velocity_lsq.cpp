@@ -117,11 +117,14 @@ VelocityEstimate solve_normal_equations(const NormalEquations& ne, double qr_con
   return est;
 }
 
-VelocityEstimate solve_velocity_planar(const VelocityRows& rows) {
+namespace {
+// solve_velocity_planar, also handing back the rows' information N = sum a a^T (zero with fewer
+// than two rows), which the robust fit starts from.
+VelocityEstimate fit_planar(const VelocityRows& rows, Eigen::Matrix2d& N) {
   VelocityEstimate est;
   est.num_points = static_cast<int>(rows.size());
+  N.setZero();
   if (rows.size() < 2) return est;
-  Eigen::Matrix2d N = Eigen::Matrix2d::Zero();
   Eigen::Vector2d g = Eigen::Vector2d::Zero();
   double yty = 0.0;
   for (std::size_t k = 0; k < rows.size(); ++k) {
@@ -144,16 +147,21 @@ VelocityEstimate solve_velocity_planar(const VelocityRows& rows) {
   est.valid = v.allFinite();
   return est;
 }
+}  // namespace
+
+VelocityEstimate solve_velocity_planar(const VelocityRows& rows) {
+  Eigen::Matrix2d N;
+  return fit_planar(rows, N);
+}
 
 VelocityEstimate solve_velocity_planar_robust(const VelocityRows& rows, double noise_sigma_mps, int iterations) {
-  VelocityEstimate est = solve_velocity_planar(rows);
+  Eigen::Matrix2d N_used;  // the weighted information behind v: at first every row's
+  VelocityEstimate est = fit_planar(rows, N_used);
   if (!est.valid) return est;
   const std::size_t n = rows.size();
   std::vector<double> residual(n), scratch(n);
   Eigen::Vector2d v = est.velocity_mps.head<2>();
   Eigen::Matrix2d N = Eigen::Matrix2d::Zero();
-  Eigen::Matrix2d N_used = Eigen::Matrix2d::Zero();  // the weighted information behind v
-  for (std::size_t k = 0; k < n; ++k) N_used.noalias() += rows.directions[k].head<2>() * rows.directions[k].head<2>().transpose();
   for (int it = 0; it < iterations; ++it) {
     for (std::size_t k = 0; k < n; ++k) residual[k] = rows.targets_mps[k] - rows.directions[k].head<2>().dot(v);
     // Tukey's biweight with c = 4.685 robust standard deviations (1.4826 MAD).
