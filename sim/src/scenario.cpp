@@ -547,10 +547,12 @@ SimulationSetup build_simulation(const LoadedScenario& loaded, int num_threads) 
         }
       }
       if (spec.class_name == "pedestrian") {
-        for (const auto& [node, joint] : pedestrian_gait(spec.trajectory.nominal_speed_mps())) {
+        const double speed = spec.trajectory.nominal_speed_mps();
+        for (const auto& [node, joint] : pedestrian_gait(speed)) {
           const int p = asset.find_part(node);
           if (p >= 0) o.joints.emplace_back(p, joint);
         }
+        o.gait_speed_mps = speed;
       }
     }
     setup.scene->add(std::move(o));

@@ -31,9 +31,10 @@ struct PartMotion {
 };
 
 // Joint rotation about a unit axis and its derivative with respect to time.
-void joint_matrices(const JointMotion& joint, double t, Eigen::Matrix4d& J, Eigen::Matrix4d& J_dot) {
+// The joint at clock t, the clock running at clock_rate clock seconds per second.
+void joint_matrices(const JointMotion& joint, double t, double clock_rate, Eigen::Matrix4d& J, Eigen::Matrix4d& J_dot) {
   const double angle = joint.angle_rad(t);
-  const double rate = joint.rate_rps(t);
+  const double rate = joint.rate_rps(t) * clock_rate;
   const Eigen::Matrix3d R = Eigen::AngleAxisd(angle, joint.axis.normalized()).toRotationMatrix();
   J.setIdentity();
   J.topLeftCorner<3, 3>() = R;
@@ -237,6 +238,10 @@ void Scene::set_time(double t_s) {
     const Eigen::Matrix4d M_asset_dot = M_body_dot * actor.T_body_asset.matrix();
     // Forward speed, for the wheels.
     const double forward_mps = (state.T_world_body.linear().transpose() * state.twist.linear_mps).x();
+    // The gait clock of a walker, else time.
+    const bool gait = actor.gait_speed_mps > 0.0;
+    const double clock = gait ? state.distance_m / actor.gait_speed_mps : t_s;
+    const double clock_rate = gait ? state.twist.linear_mps.norm() / actor.gait_speed_mps : 1.0;
     std::vector<PartMotion>& motion = im.part_motion[a];
     for (std::size_t k = 0; k < asset.parts.size(); ++k) {
       const MeshPart& part = asset.parts[k];
@@ -244,19 +249,24 @@ void Scene::set_time(double t_s) {
       Eigen::Matrix4d L_dot = Eigen::Matrix4d::Zero();
       const JointMotion* joint = nullptr;
       JointMotion wheel;
+      bool on_clock = false;
       for (const auto& [index, j] : actor.joints) {
-        if (index == static_cast<int>(k)) joint = &j;
+        if (index == static_cast<int>(k)) {
+          joint = &j;
+          on_clock = true;
+        }
       }
       for (const auto& [index, radius] : actor.wheels) {
         if (index == static_cast<int>(k)) {
           wheel.axis = Eigen::Vector3d::UnitY();
           wheel.spin_rate_rps = forward_mps / radius;
           joint = &wheel;
+          on_clock = false;
         }
       }
       if (joint != nullptr) {
         Eigen::Matrix4d J, J_dot;
-        joint_matrices(*joint, t_s, J, J_dot);
+        joint_matrices(*joint, on_clock ? clock : t_s, on_clock ? clock_rate : 1.0, J, J_dot);
         L_dot = L * J_dot;
         L = L * J;
       }

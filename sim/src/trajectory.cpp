@@ -92,6 +92,7 @@ class ConstantVelocityTrajectory final : public Trajectory {
     out.T_world_body = T_at_0_;
     out.T_world_body.translation() += velocity_mps_ * t_s;
     out.twist.linear_mps = velocity_mps_;
+    out.distance_m = velocity_mps_.norm() * t_s;
     return out;
   }
 
@@ -128,6 +129,7 @@ class ConstantTurnRateTrajectory final : public Trajectory {
     out.T_world_body.translation() = T_at_0_.translation() + speed_mps_ * displacement;
     out.twist.linear_mps = speed_mps_ * (R_turn * f);
     out.twist.angular_rps = Eigen::Vector3d(0.0, 0.0, yaw_rate_rps_);
+    out.distance_m = std::abs(speed_mps_) * t_s;
     return out;
   }
 
@@ -291,6 +293,7 @@ class WaypointTrajectory final : public Trajectory {
     build_timing(path);
     rest_at_start_ = rest_state(path.points_m.front(), spans_.front().tangent(0.0));
     rest_at_end_ = rest_state(path.points_m.back(), spans_.back().tangent(spans_.back().chord));
+    rest_at_end_.distance_m = sample_s_.back();
   }
 
   MotionState state(double t_s) const override {
@@ -324,6 +327,7 @@ class WaypointTrajectory final : public Trajectory {
     out.T_world_body.translation() = p;
     out.twist.linear_mps = dp_du * du_dt;
     out.twist.angular_rps = Eigen::Vector3d(0.0, 0.0, dyaw_du * du_dt);
+    out.distance_m = s;
     return out;
   }
 

@@ -243,8 +243,9 @@ TEST(LidarSimulator, ReturnsBeyondMaxRangeAreDropped) {
   EXPECT_EQ(far.simulate(0, 0.0).scan.num_valid(), static_cast<std::size_t>(rig.rows() * rig.cols()));
 }
 
-TEST(LidarSimulator, ArticulatedPartMovesWithItsOwnJoint) {
-  // A fixed post with an arm hinged at (0, 0, 1.6) in the body frame, swinging about +y.
+// A post with an arm hinged at (0, 0, 1.6) in the body frame (part 1), swinging about +y,
+// actor 4. The arm reaches along the body's -x from its hinge.
+SceneObject post_with_arm(const JointMotion& hinge) {
   MeshAsset asset = *box_asset({0.2f, 0.6f, 1.6f});
   asset.parts[0].name = "post";
   asset.parts[0].T_parent_part.translation() = Eigen::Vector3d(0, 0, 1.6);
@@ -252,20 +253,31 @@ TEST(LidarSimulator, ArticulatedPartMovesWithItsOwnJoint) {
   arm.name = "arm";
   arm.parent = 0;
   arm.T_parent_part = Eigen::Affine3d::Identity();
-  for (auto& v : arm.vertices) v.x() -= 1.0f;  // the arm reaches towards the sensor from its hinge
+  for (auto& v : arm.vertices) v.x() -= 1.0f;
   asset.parts.push_back(arm);
-  auto scene = std::make_shared<Scene>();
-  scene->add(wall_at_x(40.0));
   SceneObject body;
   body.actor_id = 4;
   body.class_name = "robot";
   body.asset = std::make_shared<const MeshAsset>(asset);
-  body.trajectory = make_static_trajectory(at(12.0, 0.0, 0.0));
+  body.joints.emplace_back(1, hinge);
+  return body;
+}
+
+JointMotion swinging_hinge() {
   JointMotion hinge;
   hinge.axis = Eigen::Vector3d::UnitY();
   hinge.amplitude_rad = 0.4;
   hinge.frequency_hz = 0.5;
-  body.joints.emplace_back(1, hinge);
+  return hinge;
+}
+
+TEST(LidarSimulator, ArticulatedPartMovesWithItsOwnJoint) {
+  // A fixed post facing the sensor: the arm reaches towards it.
+  auto scene = std::make_shared<Scene>();
+  scene->add(wall_at_x(40.0));
+  const JointMotion hinge = swinging_hinge();
+  SceneObject body = post_with_arm(hinge);
+  body.trajectory = make_static_trajectory(at(12.0, 0.0, 0.0));
   scene->add(std::move(body));
   scene->build();
   LidarSimulator sim(scene, make_static_trajectory(Eigen::Isometry3d::Identity()), noise_free(core::RigModel::paper_rig()));
@@ -288,6 +300,64 @@ TEST(LidarSimulator, ArticulatedPartMovesWithItsOwnJoint) {
     ASSERT_LT((v - omega.cross(p - hinge_world)).norm(), 1e-4) << "pixel " << i;
   }
   EXPECT_GT(arm_pixels, 50);
+  EXPECT_GT(post_pixels, 50);
+}
+
+TEST(LidarSimulator, AWalkersJointsRestWhileItStandsAndSwingWithItsPath) {
+  // The post walks 4 m along -y at 2 m/s from t = 1 s, its joints on a gait clock of 1 m/s:
+  // clock = distance / (1 m/s), running at 2 clock seconds per second while it walks.
+  auto scene = std::make_shared<Scene>();
+  scene->add(wall_at_x(40.0));
+  const JointMotion hinge = swinging_hinge();
+  SceneObject body = post_with_arm(hinge);
+  WaypointPath path;
+  path.points_m = {{12.0, 2.0, 0.0}, {12.0, -2.0, 0.0}};
+  path.speeds_mps = {2.0};
+  path.start_time_s = 1.0;
+  std::shared_ptr<const Trajectory> walk = make_waypoint_trajectory(path);
+  body.trajectory = walk;
+  body.gait_speed_mps = 1.0;
+  scene->add(std::move(body));
+  scene->build();
+  LidarSimulator sim(scene, make_static_trajectory(Eigen::Isometry3d::Identity()), noise_free(core::RigModel::paper_rig()));
+  // Waiting at its first point, and standing at its last: nothing of it moves, though a clock
+  // on time would swing the arm at up to 0.4 * pi rad/s (0.5 Hz, 0.4 rad).
+  for (const double t : {0.3, 3.5}) {
+    const core::Frame f = sim.simulate(0, t);
+    int pixels = 0;
+    for (std::size_t i = 0; i < f.scan.size(); ++i) {
+      if (f.truth->instance[i] != 4) continue;
+      ++pixels;
+      ASSERT_EQ(f.truth->moving[i], 0) << "t " << t << " pixel " << i;
+      ASSERT_EQ(Eigen::Vector3d(f.truth->vx_mps[i], f.truth->vy_mps[i], f.truth->vz_mps[i]).norm(), 0.0)
+          << "t " << t << " pixel " << i;
+    }
+    EXPECT_GT(pixels, 100) << "t " << t;
+  }
+  // Walking: 1.2 m along its path at t = 1.6 s, so the clock reads 1.2 s; the arm turns about
+  // the body's +y at 2 * rate(1.2 s) on top of the body's motion.
+  const double t = 1.6;
+  const MotionState state = walk->state(t);
+  ASSERT_NEAR(state.distance_m, 1.2, 1e-6);
+  const double rate = 2.0 * hinge.rate_rps(1.2);
+  ASSERT_GT(std::abs(rate), 0.5);
+  const Eigen::Vector3d omega = state.T_world_body.linear() * Eigen::Vector3d(0.0, rate, 0.0);
+  const Eigen::Vector3d hinge_world = state.T_world_body * Eigen::Vector3d(0.0, 0.0, 1.6);
+  const core::Frame f = sim.simulate(0, t);
+  int arm_pixels = 0, post_pixels = 0;
+  for (std::size_t i = 0; i < f.scan.size(); ++i) {
+    if (f.truth->instance[i] != 4) continue;
+    const Eigen::Vector3d p(f.scan.x_m[i], f.scan.y_m[i], f.scan.z_m[i]);
+    const Eigen::Vector3d v(f.truth->vx_mps[i], f.truth->vy_mps[i], f.truth->vz_mps[i]);
+    const Eigen::Vector3d own = v - state.twist.linear_mps;
+    if (own.norm() < 1e-9) {
+      ++post_pixels;
+      continue;
+    }
+    ++arm_pixels;
+    ASSERT_LT((own - omega.cross(p - hinge_world)).norm(), 1e-3) << "pixel " << i;
+  }
+  EXPECT_GT(arm_pixels, 20);
   EXPECT_GT(post_pixels, 50);
 }
 

@@ -22,6 +22,10 @@ struct SceneObject {
   Eigen::Affine3d T_body_asset = Eigen::Affine3d::Identity();  ///< mesh placement in the body frame
   std::shared_ptr<const Trajectory> trajectory;                ///< world pose of the body over time
   std::vector<std::pair<int, JointMotion>> joints;             ///< part index -> joint motion
+  /// > 0: the joints run on a gait clock, the distance the body has travelled divided by this
+  /// speed, not on time: a walker's limbs swing as it walks, at the cadence of its speed, and
+  /// rest when it stands (before its path starts, after it ends) [m/s]. 0: they run on time.
+  double gait_speed_mps = 0.0;
   /// Part index -> wheel radius [m]: the part spins about its local +y at forward speed / radius.
   std::vector<std::pair<int, double>> wheels;
 };

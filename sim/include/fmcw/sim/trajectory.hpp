@@ -20,6 +20,9 @@ struct Twist {
 struct MotionState {
   Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
   Twist twist;
+  /// Path length the body origin has travelled since t = 0 (negative before it for the constant
+  /// motions, which have always moved); its time derivative is |twist.linear_mps| [m].
+  double distance_m = 0.0;
 };
 
 /// Body frame convention: x forward, y left, z up; planar vehicles yaw about world z.
