@@ -1,6 +1,7 @@
 #include "fmcw/core/object_tracker.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
@@ -49,6 +50,9 @@ void TrackerParams::validate() const {
   FMCW_CHECK_ARG(background_min_frames >= 0 && background_margin_m > 0.0 && background_label_m >= 0.0,
                  "tracking: background_min_frames must be >= 0 (0: no background), background_margin_m > 0, "
                  "background_label_m >= 0");
+  FMCW_CHECK_ARG(grow_reach_m >= 0.0 && grow_range_gap_m > 0.0 && grow_range_gap_fraction >= 0.0,
+                 "tracking: grow_reach_m must be >= 0 (0: no growth), grow_range_gap_m > 0, "
+                 "grow_range_gap_fraction >= 0");
   FMCW_CHECK_ARG(max_length_m > 0.0 && max_width_m > 0.0, "tracking: box size caps must be > 0");
   FMCW_CHECK_ARG(split_min_share > 0.0, "tracking: split_min_share must be > 0 (above 1: never split), got ",
                  split_min_share);
@@ -262,6 +266,39 @@ struct Group {
   int claimed = 0;
   std::vector<std::uint32_t> labelled;  // static pixels that take its label, not measured
 };
+
+// Grows a region from seeds over the range image (see TrackerParams::grow_reach_m): a
+// neighbour not yet taken, in the same column group, whose range continues the pixel it is
+// reached from and that joins(i) accepts, is taken and appended to grown.
+template <class Joins>
+void grow_region(const Scan& scan, const std::vector<int>& column_group, const std::vector<std::uint32_t>& seeds,
+                 const TrackerParams& p, const Joins& joins, std::vector<std::uint8_t>& taken,
+                 std::vector<std::uint32_t>& stack, std::vector<std::uint32_t>& grown) {
+  stack.assign(seeds.begin(), seeds.end());
+  while (!stack.empty()) {
+    const std::uint32_t q = stack.back();
+    stack.pop_back();
+    const int r = static_cast<int>(q / static_cast<std::uint32_t>(scan.cols));
+    const int c = static_cast<int>(q % static_cast<std::uint32_t>(scan.cols));
+    const double rq = scan.range_m[q];
+    for (int dr = -1; dr <= 1; ++dr) {
+      for (int dc = -1; dc <= 1; ++dc) {
+        const int rr = r + dr, cc = c + dc;
+        if ((dr == 0 && dc == 0) || rr < 0 || rr >= scan.rows || cc < 0 || cc >= scan.cols) continue;
+        if (column_group[static_cast<std::size_t>(cc)] != column_group[static_cast<std::size_t>(c)]) continue;
+        const std::size_t n = scan.index(rr, cc);
+        if (taken[n] || !scan.valid[n]) continue;
+        const double rn = scan.range_m[n];
+        if (std::abs(rn - rq) >= std::max(p.grow_range_gap_m, p.grow_range_gap_fraction * std::min(rn, rq)) ||
+            !joins(n))
+          continue;
+        taken[n] = 1;
+        grown.push_back(static_cast<std::uint32_t>(n));
+        stack.push_back(static_cast<std::uint32_t>(n));
+      }
+    }
+  }
+}
 }  // namespace
 
 ObjectTracker::ObjectTracker(const TrackerParams& params) : params_(params) { params_.validate(); }
@@ -821,7 +858,70 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
     for (std::int32_t l : groups[t].absorbed)
       group_of_label[static_cast<std::size_t>(l)] = static_cast<std::int32_t>(t);
   }
+  // Growth into the blind band (grow_reach_m): each cluster by its single-scan velocity, then
+  // each carrying track that found pixels by its updated state. A tracked cluster's growth
+  // joins its group's labelled pixels, an untracked one's keeps its label.
+  std::vector<std::pair<std::uint32_t, std::size_t>> grown_untracked;  // pixel, cluster
+  if (p.grow_reach_m > 0.0) {
+    const std::vector<int> column_group = scan.column_group_of();
+    std::vector<std::uint8_t> taken(est.labels.size(), 0);
+    for (std::size_t i = 0; i < est.labels.size(); ++i) taken[i] = est.labels[i] != 0 ? 1 : 0;
+    for (const Group& g : groups) {
+      for (std::uint32_t i : g.pixels) taken[i] = 1;
+      for (std::uint32_t i : g.labelled) taken[i] = 1;
+    }
+    std::vector<std::uint32_t> stack, grown;
+    // Heights [z_lo, z_hi], world position inside, Doppler as the motion x gives it.
+    auto moves_with = [&](std::size_t i, double z_lo, double z_hi, const auto& inside, const Vec5& x) {
+      const Eigen::Vector3d q = scan.position(i);
+      if (q.z() < z_lo || q.z() > z_hi || !inside(world_xy(q))) return false;
+      const Row r = row_of(static_cast<std::uint32_t>(i));
+      return std::abs(r.y - predicted(r, x)) <= p.claim_doppler_tolerance_mps;
+    };
+    for (std::size_t c = 0; c < k; ++c) {
+      const ClusterEstimate& ce = est.clusters[c];
+      if (!ce.velocity.valid) continue;
+      Eigen::AlignedBox2d extent;
+      double z_lo = std::numeric_limits<double>::infinity(), z_hi = -z_lo;
+      for (std::uint32_t i : cluster_pixels[c]) {
+        const Eigen::Vector3d q = scan.position(i);
+        extent.extend(world_xy(q));
+        z_lo = std::min(z_lo, q.z());
+        z_hi = std::max(z_hi, q.z());
+      }
+      if (extent.sizes().maxCoeff() < p.small_object_m) z_lo += p.claim_ground_clearance_m;
+      Eigen::AlignedBox2d reach(extent.min().array() - p.grow_reach_m, extent.max().array() + p.grow_reach_m);
+      Vec5 x = Vec5::Zero();
+      x.segment<2>(2) = R * ce.velocity.velocity_mps.head<2>();
+      auto inside = [&](const Eigen::Vector2d& w) { return reach.contains(w); };
+      grown.clear();
+      grow_region(scan, column_group, cluster_pixels[c], p,
+                  [&](std::size_t i) { return moves_with(i, z_lo, z_hi + p.claim_margin_m, inside, x); }, taken,
+                  stack, grown);
+      const std::int32_t g = group_of_label[c + 1];
+      for (std::uint32_t i : grown) {
+        if (g >= 0)
+          groups[static_cast<std::size_t>(g)].labelled.push_back(i);
+        else
+          grown_untracked.emplace_back(i, c);
+      }
+    }
+    for (std::size_t t = 0; t < tracks_.size(); ++t) {
+      const Track& tr = tracks_[t];
+      Group& g = groups[t];
+      if (!tr.carries(p) || g.pixels.size() == static_cast<std::size_t>(g.claimed)) continue;
+      const Box box = box_of(tr);
+      const double z_lo = tr.z_min_m + (tr.small(p) ? p.claim_ground_clearance_m : 0.0);
+      auto inside = [&](const Eigen::Vector2d& w) { return box.contains(w, p.grow_reach_m); };
+      grown.clear();
+      grow_region(scan, column_group, g.pixels, p,
+                  [&](std::size_t i) { return moves_with(i, z_lo, tr.z_max_m + p.claim_margin_m, inside, tr.x); },
+                  taken, stack, grown);
+      g.labelled.insert(g.labelled.end(), grown.begin(), grown.end());
+    }
+  }
   std::vector<std::int32_t> claimed_by(est.labels.size(), -1);
+  for (const auto& [i, c] : grown_untracked) claimed_by[i] = static_cast<std::int32_t>(n_groups + c);
   for (std::size_t t = 0; t < n_groups; ++t) {
     for (std::uint32_t i : groups[t].labelled) claimed_by[i] = static_cast<std::int32_t>(t);
     for (std::size_t n = groups[t].pixels.size() - static_cast<std::size_t>(groups[t].claimed);

@@ -92,6 +92,19 @@ struct TrackerParams {
   int background_min_frames = 5;
   double background_margin_m = 0.3;
   double background_label_m = 2.0;
+  /// Growth into the blind band: from a moving object's pixels, static neighbours in the range
+  /// image (8-connected, not across a head seam) join it, unmeasured, when they continue its
+  /// surface (range step below max(grow_range_gap_m, grow_range_gap_fraction * range)), lie at
+  /// its heights (from its lowest pixel, plus claim_ground_clearance_m for a small object
+  /// whose feet stand on the ground, to claim_margin_m over its top), within grow_reach_m of
+  /// it, and have the Doppler its motion gives there (claim_doppler_tolerance_mps). An object
+  /// crossing the beams is cut by the band where its Doppler changes sign; the part inside the
+  /// band reads as static, but it is the same surface and moves as the rest does. Each cluster
+  /// grows by its single-scan velocity, each carrying track that found pixels this scan by its
+  /// updated state (from its claimed pixels too). 0: no growth.
+  double grow_reach_m = 3.0;
+  double grow_range_gap_m = 0.5;
+  double grow_range_gap_fraction = 0.01;
   double max_length_m = 20.0;           ///< box size caps [m]
   double heading_reset_rad = 0.25;      ///< a heading swing beyond this (not turned by the yaw rate) re-measures the box
   double max_width_m = 4.0;
