@@ -268,18 +268,28 @@ struct Group {
 };
 
 // Grows a region from seeds over the range image (see TrackerParams::grow_reach_m): a
-// neighbour not yet taken, in the same column group, whose range continues the pixel it is
-// reached from and that joins(i) accepts, is taken and appended to grown.
+// neighbour not yet taken (taken holds 1 for invalid pixels too), in the same column group,
+// whose range continues the pixel it is reached from and that joins(i) accepts, is taken and
+// appended to grown. inner[c]: columns c - 1 and c + 1 exist and share c's column group.
 template <class Joins>
-void grow_region(const Scan& scan, const std::vector<int>& column_group, const std::vector<std::uint32_t>& seeds,
-                 const TrackerParams& p, const Joins& joins, std::vector<std::uint8_t>& taken,
-                 std::vector<std::uint32_t>& stack, std::vector<std::uint32_t>& grown) {
+void grow_region(const Scan& scan, const std::vector<int>& column_group, const std::vector<std::uint8_t>& inner,
+                 const std::vector<std::uint32_t>& seeds, const TrackerParams& p, const Joins& joins,
+                 std::vector<std::uint8_t>& taken, std::vector<std::uint32_t>& stack,
+                 std::vector<std::uint32_t>& grown) {
+  const auto cols = static_cast<std::size_t>(scan.cols);
   stack.assign(seeds.begin(), seeds.end());
   while (!stack.empty()) {
     const std::uint32_t q = stack.back();
     stack.pop_back();
     const int r = static_cast<int>(q / static_cast<std::uint32_t>(scan.cols));
     const int c = static_cast<int>(q % static_cast<std::uint32_t>(scan.cols));
+    // Most seeds lie inside their object: every neighbour taken.
+    if (r > 0 && r + 1 < scan.rows && inner[static_cast<std::size_t>(c)]) {
+      const std::uint8_t* above = &taken[q - cols - 1];
+      const std::uint8_t* here = &taken[q - 1];
+      const std::uint8_t* below = &taken[q + cols - 1];
+      if ((above[0] & above[1] & above[2] & here[0] & here[2] & below[0] & below[1] & below[2]) != 0) continue;
+    }
     const double rq = scan.range_m[q];
     for (int dr = -1; dr <= 1; ++dr) {
       for (int dc = -1; dc <= 1; ++dc) {
@@ -287,7 +297,7 @@ void grow_region(const Scan& scan, const std::vector<int>& column_group, const s
         if ((dr == 0 && dc == 0) || rr < 0 || rr >= scan.rows || cc < 0 || cc >= scan.cols) continue;
         if (column_group[static_cast<std::size_t>(cc)] != column_group[static_cast<std::size_t>(c)]) continue;
         const std::size_t n = scan.index(rr, cc);
-        if (taken[n] || !scan.valid[n]) continue;
+        if (taken[n]) continue;
         const double rn = scan.range_m[n];
         if (std::abs(rn - rq) >= std::max(p.grow_range_gap_m, p.grow_range_gap_fraction * std::min(rn, rq)) ||
             !joins(n))
@@ -864,8 +874,11 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
   std::vector<std::pair<std::uint32_t, std::size_t>> grown_untracked;  // pixel, cluster
   if (p.grow_reach_m > 0.0) {
     const std::vector<int> column_group = scan.column_group_of();
+    std::vector<std::uint8_t> inner(column_group.size(), 0);
+    for (std::size_t c = 1; c + 1 < column_group.size(); ++c)
+      inner[c] = column_group[c - 1] == column_group[c] && column_group[c + 1] == column_group[c] ? 1 : 0;
     std::vector<std::uint8_t> taken(est.labels.size(), 0);
-    for (std::size_t i = 0; i < est.labels.size(); ++i) taken[i] = est.labels[i] != 0 ? 1 : 0;
+    for (std::size_t i = 0; i < est.labels.size(); ++i) taken[i] = est.labels[i] != 0 || !scan.valid[i] ? 1 : 0;
     for (const Group& g : groups) {
       for (std::uint32_t i : g.pixels) taken[i] = 1;
       for (std::uint32_t i : g.labelled) taken[i] = 1;
@@ -895,7 +908,7 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
       x.segment<2>(2) = R * ce.velocity.velocity_mps.head<2>();
       auto inside = [&](const Eigen::Vector2d& w) { return reach.contains(w); };
       grown.clear();
-      grow_region(scan, column_group, cluster_pixels[c], p,
+      grow_region(scan, column_group, inner, cluster_pixels[c], p,
                   [&](std::size_t i) { return moves_with(i, z_lo, z_hi + p.claim_margin_m, inside, x); }, taken,
                   stack, grown);
       const std::int32_t g = group_of_label[c + 1];
@@ -914,7 +927,7 @@ void ObjectTracker::update(const Scan& scan, MotionEstimate& est) {
       const double z_lo = tr.z_min_m + (tr.small(p) ? p.claim_ground_clearance_m : 0.0);
       auto inside = [&](const Eigen::Vector2d& w) { return box.contains(w, p.grow_reach_m); };
       grown.clear();
-      grow_region(scan, column_group, g.pixels, p,
+      grow_region(scan, column_group, inner, g.pixels, p,
                   [&](std::size_t i) { return moves_with(i, z_lo, tr.z_max_m + p.claim_margin_m, inside, tr.x); },
                   taken, stack, grown);
       g.labelled.insert(g.labelled.end(), grown.begin(), grown.end());
