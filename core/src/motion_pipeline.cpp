@@ -210,17 +210,12 @@ bool merge_fragments(const Scan& scan, const std::vector<VelocityRows>& rows, co
     for (int c = 0; c < scan.cols; ++c) {
       const std::int32_t l = labels[scan.index(r, c)];
       if (l <= 0 || static_cast<int>(rows[static_cast<std::size_t>(l - 1)].size()) >= params.fragment_pixels) continue;
-      for (int dr = -1; dr <= 1; ++dr) {
-        for (int dc = -1; dc <= 1; ++dc) {
-          const int rr = r + dr, cc = c + dc;
-          if (rr < 0 || rr >= scan.rows || cc < 0 || cc >= scan.cols) continue;
-          if (group_of[static_cast<std::size_t>(cc)] != group_of[static_cast<std::size_t>(c)]) continue;
-          const std::int32_t m = labels[scan.index(rr, cc)];
-          if (m <= 0 || m == l || rows[static_cast<std::size_t>(m - 1)].size() <= rows[static_cast<std::size_t>(l - 1)].size()) continue;
-          std::int32_t& t = target[static_cast<std::size_t>(l)];
-          if (t == 0 || rows[static_cast<std::size_t>(m - 1)].size() > rows[static_cast<std::size_t>(t - 1)].size()) t = m;
-        }
-      }
+      for_each_neighbour(scan, group_of, r, c, [&](std::size_t n, int, int) {
+        const std::int32_t m = labels[n];
+        if (m <= 0 || m == l || rows[static_cast<std::size_t>(m - 1)].size() <= rows[static_cast<std::size_t>(l - 1)].size()) return;
+        std::int32_t& t = target[static_cast<std::size_t>(l)];
+        if (t == 0 || rows[static_cast<std::size_t>(m - 1)].size() > rows[static_cast<std::size_t>(t - 1)].size()) t = m;
+      });
     }
   }
   bool merged = false;

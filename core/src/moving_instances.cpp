@@ -77,17 +77,11 @@ Segmentation label_moving_instances(const Scan& scan, const std::vector<std::uin
       members.push_back(q);
       const int r = static_cast<int>(q / static_cast<std::uint32_t>(scan.cols));
       const int c = static_cast<int>(q % static_cast<std::uint32_t>(scan.cols));
-      for (int dr = -1; dr <= 1; ++dr) {
-        for (int dc = -1; dc <= 1; ++dc) {
-          const int rr = r + dr, cc = c + dc;
-          if ((dr == 0 && dc == 0) || rr < 0 || rr >= scan.rows || cc < 0 || cc >= scan.cols) continue;
-          if (group_of[static_cast<std::size_t>(cc)] != group_of[static_cast<std::size_t>(c)]) continue;
-          const std::size_t nq = scan.index(rr, cc);
-          if (region[nq] != kPending || !joins(q, nq, r, c, dr, dc)) continue;
-          region[nq] = next;
-          stack.push_back(static_cast<std::uint32_t>(nq));
-        }
-      }
+      for_each_neighbour(scan, group_of, r, c, [&](std::size_t nq, int dr, int dc) {
+        if (region[nq] != kPending || !joins(q, nq, r, c, dr, dc)) return;
+        region[nq] = next;
+        stack.push_back(static_cast<std::uint32_t>(nq));
+      });
     }
     ++next;
     if (static_cast<int>(members.size()) < params.min_cluster_pixels) continue;  // left static

@@ -291,22 +291,15 @@ void grow_region(const Scan& scan, const std::vector<int>& column_group, const s
       if ((above[0] & above[1] & above[2] & here[0] & here[2] & below[0] & below[1] & below[2]) != 0) continue;
     }
     const double rq = scan.range_m[q];
-    for (int dr = -1; dr <= 1; ++dr) {
-      for (int dc = -1; dc <= 1; ++dc) {
-        const int rr = r + dr, cc = c + dc;
-        if ((dr == 0 && dc == 0) || rr < 0 || rr >= scan.rows || cc < 0 || cc >= scan.cols) continue;
-        if (column_group[static_cast<std::size_t>(cc)] != column_group[static_cast<std::size_t>(c)]) continue;
-        const std::size_t n = scan.index(rr, cc);
-        if (taken[n]) continue;
-        const double rn = scan.range_m[n];
-        if (std::abs(rn - rq) >= std::max(p.grow_range_gap_m, p.grow_range_gap_fraction * std::min(rn, rq)) ||
-            !joins(n))
-          continue;
-        taken[n] = 1;
-        grown.push_back(static_cast<std::uint32_t>(n));
-        stack.push_back(static_cast<std::uint32_t>(n));
-      }
-    }
+    for_each_neighbour(scan, column_group, r, c, [&](std::size_t n, int, int) {
+      if (taken[n]) return;
+      const double rn = scan.range_m[n];
+      if (std::abs(rn - rq) >= std::max(p.grow_range_gap_m, p.grow_range_gap_fraction * std::min(rn, rq)) || !joins(n))
+        return;
+      taken[n] = 1;
+      grown.push_back(static_cast<std::uint32_t>(n));
+      stack.push_back(static_cast<std::uint32_t>(n));
+    });
   }
 }
 }  // namespace

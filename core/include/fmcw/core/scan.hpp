@@ -67,4 +67,18 @@ struct Scan {
   void validate() const;
 };
 
+/// Calls f(n, dr, dc) for each of pixel (r, c)'s eight neighbours (r + dr, c + dc) that lies in
+/// the image and in column c's group (group_of: Scan::column_group_of()); n is its index.
+template <class F>
+void for_each_neighbour(const Scan& scan, const std::vector<int>& group_of, int r, int c, F&& f) {
+  for (int dr = -1; dr <= 1; ++dr) {
+    for (int dc = -1; dc <= 1; ++dc) {
+      const int rr = r + dr, cc = c + dc;
+      if ((dr == 0 && dc == 0) || rr < 0 || rr >= scan.rows || cc < 0 || cc >= scan.cols) continue;
+      if (group_of[static_cast<std::size_t>(cc)] != group_of[static_cast<std::size_t>(c)]) continue;
+      f(scan.index(rr, cc), dr, dc);
+    }
+  }
+}
+
 }  // namespace fmcw::core
