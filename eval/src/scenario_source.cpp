@@ -14,6 +14,7 @@ ScenarioSource::ScenarioSource(const std::string& scenario_file, int frames, boo
   info_.rate_hz = s.rate_hz;
   info_.seed = s.seed;
   info_.config_yaml = sim::scenario_to_yaml(s);
+  info_.notices = loaded_.notices;
   const sim::SimulationSetup setup = sim::build_simulation(loaded_);
   simulator_ = std::make_unique<sim::LidarSimulator>(setup.scene, setup.ego, setup.params);
 }

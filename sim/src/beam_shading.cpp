@@ -87,7 +87,7 @@ const double* shade_beams(const ShadingContext& ctx, const HeadState& head, std:
     } else {
       const SlotMotion& part = scene.slot(ray.slot);
       const Eigen::Vector3d p = h.origin_world + t.range_m * e;
-      const Eigen::Vector3d v = part.velocity_field.leftCols<3>() * p + part.velocity_field.col(3);
+      const Eigen::Vector3d v = part.velocity(ray, p);
       // Eq. 6: v = e . (V_point - V_lidar), both in the world frame (the dot product does not
       // depend on the frame it is evaluated in).
       t.doppler_mps = e.dot(v - h.origin_velocity_world);

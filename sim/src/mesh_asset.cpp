@@ -1,60 +1,11 @@
 #include "fmcw/sim/mesh_asset.hpp"
-#include "fmcw/sim/yaml_reader.hpp"
 
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
-
-#include <assimp/Importer.hpp>
-#include <filesystem>
 #include <stdexcept>
 
+#include "fmcw/sim/yaml_reader.hpp"
+#include "mesh_loaders.hpp"
+
 namespace fmcw::sim {
-
-namespace {
-Eigen::Affine3d to_eigen(const aiMatrix4x4& m) {
-  Eigen::Matrix4d e;
-  e << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3, m.d4;
-  return Eigen::Affine3d(e);
-}
-
-void add_node(const aiScene* scene, const aiNode* node, int parent, const ReflectivityTable& table, float fallback,
-              MeshAsset& asset, const Eigen::Affine3d& T_asset_parent) {
-  MeshPart part;
-  part.name = node->mName.C_Str();
-  part.parent = parent;
-  part.T_parent_part = to_eigen(node->mTransformation);
-  const Eigen::Affine3d T_asset_part = T_asset_parent * part.T_parent_part;
-  for (unsigned k = 0; k < node->mNumMeshes; ++k) {
-    const aiMesh* mesh = scene->mMeshes[node->mMeshes[k]];
-    if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
-    float reflectivity = fallback;
-    if (mesh->mMaterialIndex < scene->mNumMaterials) {
-      aiString name;
-      if (scene->mMaterials[mesh->mMaterialIndex]->Get(AI_MATKEY_NAME, name) == AI_SUCCESS) {
-        const auto it = table.find(name.C_Str());
-        if (it != table.end()) reflectivity = it->second;
-      }
-    }
-    const auto base = static_cast<std::uint32_t>(part.vertices.size());
-    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
-      const aiVector3D& p = mesh->mVertices[v];
-      part.vertices.emplace_back(p.x, p.y, p.z);
-      asset.rest_bounds.extend(T_asset_part * Eigen::Vector3d(p.x, p.y, p.z));
-    }
-    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
-      const aiFace& face = mesh->mFaces[f];
-      if (face.mNumIndices != 3) continue;
-      for (int c = 0; c < 3; ++c) part.indices.push_back(base + face.mIndices[c]);
-      part.triangle_reflectivity.push_back(reflectivity);
-    }
-  }
-  const int self = static_cast<int>(asset.parts.size());
-  asset.parts.push_back(std::move(part));
-  for (unsigned c = 0; c < node->mNumChildren; ++c) {
-    add_node(scene, node->mChildren[c], self, table, fallback, asset, T_asset_part);
-  }
-}
-}  // namespace
 
 std::size_t MeshAsset::triangle_count() const {
   std::size_t n = 0;
@@ -67,6 +18,59 @@ int MeshAsset::find_part(const std::string& name) const {
     if (parts[k].name == name) return static_cast<int>(k);
   }
   return -1;
+}
+
+int MeshAsset::find_clip(const std::string& name_or_index) const {
+  for (std::size_t k = 0; k < clips.size(); ++k) {
+    if (clips[k].name == name_or_index) return static_cast<int>(k);
+  }
+  if (!name_or_index.empty() && name_or_index.size() < 10 &&
+      name_or_index.find_first_not_of("0123456789") == std::string::npos) {
+    const auto k = std::stoul(name_or_index);
+    if (k < clips.size()) return static_cast<int>(k);
+  }
+  return -1;
+}
+
+std::string MeshAsset::clip_names() const {
+  if (clips.empty()) return "none";
+  std::string out;
+  for (std::size_t k = 0; k < clips.size(); ++k) out += (k ? ", '" : "'") + clips[k].name + "'";
+  return out;
+}
+
+std::vector<Eigen::Affine3d> MeshAsset::rest_transforms() const {
+  std::vector<Eigen::Affine3d> T(parts.size());
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const int parent = parts[k].parent;
+    T[k] = parent < 0 ? parts[k].T_parent_part : T[static_cast<std::size_t>(parent)] * parts[k].T_parent_part;
+  }
+  return T;
+}
+
+std::vector<Eigen::Vector3f> MeshAsset::rest_vertices(std::size_t k, const std::vector<Eigen::Affine3d>& T_asset_part) const {
+  const MeshPart& part = parts[k];
+  std::vector<Eigen::Vector3f> out(part.vertices.size());
+  if (!part.skin) {
+    for (std::size_t v = 0; v < out.size(); ++v) out[v] = (T_asset_part[k] * part.vertices[v].cast<double>()).cast<float>();
+    return out;
+  }
+  JointMatrices joints;
+  for (std::size_t j = 0; j < part.skin->joint_parts.size(); ++j) {
+    joints.M.push_back((T_asset_part[static_cast<std::size_t>(part.skin->joint_parts[j])].matrix() * part.skin->inverse_bind[j]).topRows<3>());
+  }
+  skin_vertices(*part.skin, joints, part.vertices, out.data()->data(), nullptr);
+  return out;
+}
+
+NodeTrs decompose_trs(const Eigen::Affine3d& T) {
+  NodeTrs trs;
+  trs.translation = T.translation();
+  Eigen::Matrix3d R, S;
+  T.computeRotationScaling(&R, &S);  // polar decomposition: linear = R S, R a rotation
+  trs.rotation = Eigen::Quaterniond(R).normalized();
+  trs.scale = S.diagonal();
+  return trs;
 }
 
 MeshAsset box_mesh(const Eigen::Vector3f& h, float reflectivity, const std::string& name) {
@@ -93,16 +97,14 @@ MeshAsset load_mesh_asset(const std::string& path, const ReflectivityTable& refl
   if (!is_existing_file(path)) {
     throw std::invalid_argument("mesh '" + path + "' does not exist");
   }
-  Assimp::Importer importer;
-  const aiScene* scene = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
-                aiProcess_FindDegenerates | aiProcess_ValidateDataStructure);
-  if (scene == nullptr || scene->mRootNode == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
-    throw std::invalid_argument("mesh '" + path + "' cannot be read: " + importer.GetErrorString());
+  std::optional<MeshAsset> gltf = detail::load_animated_gltf(path, reflectivity, default_reflectivity);
+  MeshAsset asset = gltf ? std::move(*gltf) : detail::load_assimp_asset(path, reflectivity, default_reflectivity);
+  // Skinned parts (and every part of the glTF reader, which leaves the bounds to this) at rest.
+  const std::vector<Eigen::Affine3d> T = asset.rest_transforms();
+  for (std::size_t k = 0; k < asset.parts.size(); ++k) {
+    if (!gltf && !asset.parts[k].skin) continue;  // assimp's reader added them as it read them
+    for (const auto& v : asset.rest_vertices(k, T)) asset.rest_bounds.extend(v.cast<double>());
   }
-  MeshAsset asset;
-  asset.path = path;
-  add_node(scene, scene->mRootNode, -1, reflectivity, default_reflectivity, asset, Eigen::Affine3d::Identity());
   if (asset.triangle_count() == 0) throw std::invalid_argument("mesh '" + path + "' holds no triangles");
   return asset;
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "fmcw/core/check.hpp"
@@ -166,6 +167,65 @@ ReflectivityTable read_materials(const std::string& file) {
   return table;
 }
 
+AnimationSpec read_animation(const YamlValue& value) {
+  YamlMap m(value);
+  AnimationSpec a;
+  a.given = true;
+  a.clip = m.get("clip", std::string());
+  ClipPlayback& p = a.playback;
+  p.speed = m.get("speed", 1.0);
+  p.loop = m.get("loop", true);
+  p.start_s = m.get("start_s", 0.0);
+  p.offset_s = m.get("offset_s", 0.0);
+  const std::string clock = m.get("clock", std::string("time"));
+  if (clock == "distance") {
+    p.clock = ClipPlayback::Clock::kDistance;
+    if (m.has("start_s")) m.at("start_s").fail("start_s is for clock: time; a distance clock runs with the path");
+  } else if (clock != "time") {
+    m.at("clock").fail("clock must be time or distance, got '" + clock + "'");
+  }
+  p.nominal_speed_mps = m.get("nominal_speed_mps", 0.0);
+  if (!(p.nominal_speed_mps >= 0.0)) {
+    m.at("nominal_speed_mps").fail("nominal_speed_mps must be >= 0 (0: the clip's own)");
+  }
+  if (m.has("nominal_speed_mps") && p.clock != ClipPlayback::Clock::kDistance) {
+    m.at("nominal_speed_mps").fail("nominal_speed_mps is for clock: distance");
+  }
+  m.finish();
+  return a;
+}
+
+// The clip an actor plays: the one its animation block names, else (animate on) the mesh's
+// first, looped on time. Notices for clips that will not play.
+void resolve_animation(ObjectSpec& o, const MeshAsset& asset, const YamlValue& item, std::set<std::string>& said,
+                       std::vector<std::string>& notices) {
+  AnimationSpec& a = o.animation;
+  if (!o.animate || o.id == 0) {
+    if (!asset.clips.empty() && said.insert(o.mesh_path).second) {
+      notices.push_back(item.where() + ": mesh '" + o.mesh_path + "' has clip(s) " + asset.clip_names() + ", not played: " +
+                        (o.id == 0 ? "static objects stand still" : "the actor has animate: false"));
+    }
+    return;
+  }
+  if (asset.clips.empty()) {
+    if (a.given) item.fail("animation: mesh '" + o.mesh_path + "' has no clip");
+    return;
+  }
+  const int k = a.clip.empty() ? 0 : asset.find_clip(a.clip);
+  if (k < 0) {
+    item.fail("animation.clip: mesh '" + o.mesh_path + "' has no clip '" + a.clip + "'; its clips: " + asset.clip_names());
+  }
+  a.clip_index = k;
+  a.clip = asset.clips[static_cast<std::size_t>(k)].name;
+  ClipPlayback& p = a.playback;
+  if (p.clock == ClipPlayback::Clock::kDistance && p.nominal_speed_mps == 0.0) {
+    p.nominal_speed_mps = asset.clips[static_cast<std::size_t>(k)].nominal_speed_mps;
+    if (p.nominal_speed_mps == 0.0) {
+      item.fail("animation: clock: distance needs nominal_speed_mps, and clip '" + a.clip + "' gives none");
+    }
+  }
+}
+
 ObjectSpec read_object(const YamlValue& value, bool is_actor, const std::string& scenario_file) {
   YamlMap m(value);
   ObjectSpec o;
@@ -198,6 +258,11 @@ ObjectSpec read_object(const YamlValue& value, bool is_actor, const std::string&
     o.name = m.get("name", o.class_name + "_" + std::to_string(o.id));
     o.trajectory = read_trajectory(m.at("trajectory"));
     o.animate = m.get("animate", true);
+    if (m.has("animation")) {
+      const YamlValue av = m.at("animation");
+      if (!o.animate) av.fail("an animation needs animate: true");
+      o.animation = read_animation(av);
+    }
   } else {
     o.name = m.get("name", std::string("static"));
     o.trajectory.type = "static";
@@ -381,7 +446,8 @@ LoadedScenario load_scenario_unchecked(const std::string& path) {
     m.get("ego", 0.0);
   }
   std::map<std::string, std::shared_ptr<const MeshAsset>> cache;
-  const auto mesh = [&](const ObjectSpec& o, const YamlValue& where) {
+  std::set<std::string> said;  // meshes whose unplayed clips were noted
+  const auto mesh = [&](ObjectSpec& o, const YamlValue& where) {
     auto it = cache.find(o.mesh_path);
     if (it == cache.end()) {
       try {
@@ -391,7 +457,9 @@ LoadedScenario load_scenario_unchecked(const std::string& path) {
       } catch (const std::invalid_argument& e) {
         where.fail(e.what());
       }
+      loaded.notices.insert(loaded.notices.end(), it->second->notices.begin(), it->second->notices.end());
     }
+    resolve_animation(o, *it->second, where, said, loaded.notices);
     return it->second;
   };
   if (m.has("static")) {
@@ -427,7 +495,7 @@ LoadedScenario load_scenario_unchecked(const std::string& path) {
     std::map<std::uint32_t, std::string> ids;
     for (const auto& item : m.at("actors").items()) {
       s.actors.push_back(read_object(item, true, path));
-      const ObjectSpec& a = s.actors.back();
+      ObjectSpec& a = s.actors.back();
       if (!ids.emplace(a.id, item.path()).second) {
         item.fail("actor id " + std::to_string(a.id) + " is already used by " + ids[a.id]);
       }
@@ -494,7 +562,22 @@ std::string scenario_to_yaml(const Scenario& s) {
       if (actors) out << YAML::Key << "id" << YAML::Value << o.id << YAML::Key << "class" << YAML::Value << o.class_name;
       out << YAML::Key << "name" << YAML::Value << o.name << YAML::Key << "mesh" << YAML::Value << o.mesh_path;
       if (actors) {
-        out << YAML::Key << "animate" << YAML::Value << o.animate << YAML::Key << "trajectory" << YAML::Value;
+        out << YAML::Key << "animate" << YAML::Value << o.animate;
+        if (o.animation.clip_index >= 0) {
+          const ClipPlayback& p = o.animation.playback;
+          const bool distance = p.clock == ClipPlayback::Clock::kDistance;
+          out << YAML::Key << "animation" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "clip"
+              << YAML::Value << o.animation.clip << YAML::Key << "speed" << YAML::Value << p.speed << YAML::Key << "loop"
+              << YAML::Value << p.loop << YAML::Key << "offset_s" << YAML::Value << p.offset_s << YAML::Key << "clock"
+              << YAML::Value << (distance ? "distance" : "time");
+          if (distance) {
+            out << YAML::Key << "nominal_speed_mps" << YAML::Value << p.nominal_speed_mps;
+          } else {
+            out << YAML::Key << "start_s" << YAML::Value << p.start_s;
+          }
+          out << YAML::EndMap;
+        }
+        out << YAML::Key << "trajectory" << YAML::Value;
         emit_trajectory(out, o.trajectory);
       } else {
         out << YAML::Key << "pose" << YAML::Value;
@@ -533,6 +616,8 @@ SimulationSetup build_simulation(const LoadedScenario& loaded, int num_threads) 
     o.asset = loaded.actor_meshes[k];
     o.T_body_asset = spec.T_body_asset;
     o.trajectory = spec.trajectory.make();
+    o.clip = spec.animation.clip_index;
+    o.playback = spec.animation.playback;
     if (spec.animate) {
       const MeshAsset& asset = *o.asset;
       for (std::size_t p = 0; p < asset.parts.size(); ++p) {

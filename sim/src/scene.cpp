@@ -61,8 +61,24 @@ struct Scene::Impl {
     int part = -1;
     RTCGeometry instance = nullptr;
     Eigen::AlignedBox3d bounds_part;  // of the part's vertices, part frame
+    int skinned = -1;                 // index into skinned, for a skinned part
   };
   std::vector<Slot> slots;
+  // A skinned actor part: its own triangle geometry in the world frame, its vertices deformed and
+  // its BVH refit every set_time. The triangles are the asset's (shared between actors); the
+  // vertices and their velocities are the actor's own.
+  struct Skinned {
+    std::size_t actor = 0;
+    std::size_t part = 0;
+    RTCScene scene = nullptr;
+    RTCGeometry geometry = nullptr;
+    float* vertices = nullptr;  // Embree's vertex buffer
+    std::vector<Eigen::Vector3d> velocity;
+  };
+  std::vector<Skinned> skinned;
+  // Per actor and part: the track of the actor's clip that animates the part, -1 for none.
+  std::vector<std::vector<int>> clip_track;
+  JointMatrices joints;  // scratch for skinning
   // Per actor: per-part motion at the current time, and each part's slot (0: no triangles).
   std::vector<std::vector<PartMotion>> part_motion;
   std::vector<std::vector<std::uint32_t>> part_slot;
@@ -85,6 +101,10 @@ Scene::~Scene() {
     if (slot.instance) rtcReleaseGeometry(slot.instance);
   }
   for (auto& [key, scene] : impl_->part_scenes) rtcReleaseScene(scene);
+  for (auto& skinned : impl_->skinned) {
+    if (skinned.geometry) rtcReleaseGeometry(skinned.geometry);
+    if (skinned.scene) rtcReleaseScene(skinned.scene);
+  }
   if (impl_->static_scene) rtcReleaseScene(impl_->static_scene);
   if (impl_->top) rtcReleaseScene(impl_->top);
   if (impl_->device) rtcReleaseDevice(impl_->device);
@@ -106,6 +126,10 @@ void Scene::add(SceneObject object) {
   if (!object.asset) throw std::invalid_argument("scene object '" + object.name + "' has no mesh");
   if (!object.trajectory) throw std::invalid_argument("scene object '" + object.name + "' has no trajectory");
   if (object.actor_id != 0) {
+    if (object.clip >= static_cast<int>(object.asset->clips.size())) {
+      throw std::invalid_argument("scene object '" + object.name + "' plays clip " + std::to_string(object.clip) +
+                                  " of a mesh with " + std::to_string(object.asset->clips.size()));
+    }
     actors_.push_back(std::move(object));
     return;
   }
@@ -118,9 +142,15 @@ void Scene::add(SceneObject object) {
     const MeshPart& part = asset.parts[k];
     const Eigen::Affine3d parent = part.parent < 0 ? T_world_asset : T_world_part[static_cast<std::size_t>(part.parent)];
     T_world_part[k] = parent * part.T_parent_part;
+  }
+  for (std::size_t k = 0; k < asset.parts.size(); ++k) {
+    const MeshPart& part = asset.parts[k];
     const auto base = static_cast<std::uint32_t>(impl_->static_vertices.size() / 3);
-    for (const auto& v : part.vertices) {
-      const Eigen::Vector3d w = T_world_part[k] * v.cast<double>();
+    // A skinned part at its rest pose: skinned by the joints' rest transforms (world).
+    std::vector<Eigen::Vector3f> skinned;
+    if (part.skin) skinned = asset.rest_vertices(k, T_world_part);
+    for (std::size_t i = 0; i < part.vertices.size(); ++i) {
+      const Eigen::Vector3d w = part.skin ? skinned[i].cast<double>() : T_world_part[k] * part.vertices[i].cast<double>();
       impl_->static_vertices.insert(impl_->static_vertices.end(),
                                     {static_cast<float>(w.x()), static_cast<float>(w.y()), static_cast<float>(w.z())});
     }
@@ -170,14 +200,24 @@ void Scene::build() {
   // Actors: one BVH per asset part, one instance per actor part.
   im.part_motion.resize(actors_.size());
   im.part_slot.resize(actors_.size());
+  im.clip_track.resize(actors_.size());
   actor_states_.resize(actors_.size());
   for (std::size_t a = 0; a < actors_.size(); ++a) {
     const MeshAsset& asset = *actors_[a].asset;
     im.part_motion[a].resize(asset.parts.size());
     im.part_slot[a].assign(asset.parts.size(), 0);
+    im.clip_track[a].assign(asset.parts.size(), -1);
+    if (actors_[a].clip >= 0) {
+      const AnimationClip& clip = asset.clips[static_cast<std::size_t>(actors_[a].clip)];
+      for (std::size_t t = 0; t < clip.tracks.size(); ++t) im.clip_track[a][static_cast<std::size_t>(clip.tracks[t].part)] = static_cast<int>(t);
+    }
     for (std::size_t k = 0; k < asset.parts.size(); ++k) {
       const MeshPart& part = asset.parts[k];
       if (part.triangle_count() == 0) continue;
+      if (part.skin) {
+        add_skinned_slot(a, k);
+        continue;
+      }
       const auto key = std::make_pair(&asset, static_cast<int>(k));
       auto it = im.part_scenes.find(key);
       if (it == im.part_scenes.end()) {
@@ -221,6 +261,54 @@ void Scene::build() {
   set_time(0.0);
 }
 
+void Scene::add_skinned_slot(std::size_t a, std::size_t k) {
+  Impl& im = *impl_;
+  const MeshPart& part = actors_[a].asset->parts[k];
+  Impl::Skinned sk;
+  sk.actor = a;
+  sk.part = k;
+  sk.velocity.resize(part.vertices.size());
+  // Refit, not rebuild: the topology never changes, only the vertices move.
+  sk.scene = rtcNewScene(im.device);
+  rtcSetSceneFlags(sk.scene, RTC_SCENE_FLAG_DYNAMIC);
+  rtcSetSceneBuildQuality(sk.scene, RTC_BUILD_QUALITY_LOW);
+  sk.geometry = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  rtcSetGeometryBuildQuality(sk.geometry, RTC_BUILD_QUALITY_REFIT);
+  sk.vertices = static_cast<float*>(rtcSetNewGeometryBuffer(sk.geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                             3 * sizeof(float), part.vertices.size()));
+  rtcSetSharedGeometryBuffer(sk.geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, part.indices.data(), 0,
+                             3 * sizeof(std::uint32_t), part.triangle_count());
+  im.check(("skinned mesh '" + actors_[a].asset->path + "' part '" + part.name + "'").c_str());
+  rtcAttachGeometryByID(sk.scene, sk.geometry, 0);
+  // Instanced with the identity: the deformed vertices are in the world frame already.
+  RTCGeometry inst = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_INSTANCE);
+  rtcSetGeometryInstancedScene(inst, sk.scene);
+  const float identity[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+  rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, identity);
+  rtcCommitGeometry(inst);
+  const auto slot = static_cast<unsigned>(im.slots.size());
+  rtcAttachGeometryByID(im.top, inst, slot);
+  im.slots.push_back({static_cast<int>(a), static_cast<int>(k), inst, Eigen::AlignedBox3d(), static_cast<int>(im.skinned.size())});
+  im.part_slot[a][k] = slot;
+  SlotMotion motion;
+  motion.reflectivity = part.triangle_reflectivity.data();
+  motion.vertex_velocity = sk.velocity.data();
+  motion.indices = part.indices.data();
+  motion.actor_id = actors_[a].actor_id;
+  motion.actor_index = static_cast<std::uint32_t>(a);
+  slots_.push_back(motion);
+  im.skinned.push_back(std::move(sk));
+}
+
+std::vector<Eigen::Vector3f> Scene::skinned_vertices(std::size_t k) const {
+  std::vector<Eigen::Vector3f> out;
+  for (const Impl::Skinned& sk : impl_->skinned) {
+    if (sk.actor != k) continue;
+    for (std::size_t v = 0; v < sk.velocity.size(); ++v) out.emplace_back(sk.vertices[3 * v], sk.vertices[3 * v + 1], sk.vertices[3 * v + 2]);
+  }
+  return out;
+}
+
 void Scene::set_time(double t_s) {
   Impl& im = *impl_;
   time_s_ = t_s;
@@ -242,11 +330,21 @@ void Scene::set_time(double t_s) {
     const bool gait = actor.gait_speed_mps > 0.0;
     const double clock = gait ? state.distance_m / actor.gait_speed_mps : t_s;
     const double clock_rate = gait ? state.twist.linear_mps.norm() / actor.gait_speed_mps : 1.0;
+    // The clip's time and its rate.
+    const AnimationClip* clip = actor.clip >= 0 ? &asset.clips[static_cast<std::size_t>(actor.clip)] : nullptr;
+    double tau = 0.0, tau_rate = 0.0;
+    if (clip) actor.playback.clip_time(clip->duration_s, t_s, state.distance_m, state.twist.linear_mps.norm(), tau, tau_rate);
     std::vector<PartMotion>& motion = im.part_motion[a];
     for (std::size_t k = 0; k < asset.parts.size(); ++k) {
       const MeshPart& part = asset.parts[k];
       Eigen::Matrix4d L = part.T_parent_part.matrix();
       Eigen::Matrix4d L_dot = Eigen::Matrix4d::Zero();
+      const int track = im.clip_track[a][k];
+      if (track >= 0) {
+        // The clip drives this node (it wins over any procedural rule): dL/dt = dL/dtau dtau/dt.
+        clip->local_transform(static_cast<std::size_t>(track), part.rest_trs, tau, L, L_dot);
+        L_dot *= tau_rate;
+      }
       const JointMotion* joint = nullptr;
       JointMotion wheel;
       bool on_clock = false;
@@ -264,7 +362,7 @@ void Scene::set_time(double t_s) {
           on_clock = false;
         }
       }
-      if (joint != nullptr) {
+      if (joint != nullptr && track < 0) {
         Eigen::Matrix4d J, J_dot;
         joint_matrices(*joint, on_clock ? clock : t_s, on_clock ? clock_rate : 1.0, J, J_dot);
         L_dot = L * J_dot;
@@ -275,7 +373,8 @@ void Scene::set_time(double t_s) {
       motion[k].M = P * L;
       motion[k].M_dot = P_dot * L + P * L_dot;  // product rule
       const std::uint32_t slot = im.part_slot[a][k];
-      if (slot == 0) continue;  // no triangles: nothing to resolve (its children use motion[k])
+      // No triangles: nothing to resolve (its children use motion[k]); skinned: see below.
+      if (slot == 0 || im.slots[slot].skinned >= 0) continue;
       // Velocity field of the part's points: v(p) = M_dot M^-1 p.
       const Eigen::Matrix4d M_inv = motion[k].M.inverse();
       slots_[slot].velocity_field = (motion[k].M_dot * M_inv).topRows<3>();
@@ -285,8 +384,32 @@ void Scene::set_time(double t_s) {
   std::vector<Eigen::AlignedBox3d>& actor_box = im.actor_box;
   actor_box.resize(actors_.size());
   for (auto& box : actor_box) box.setEmpty();
+  // Skins: every vertex moved by its joints (M_j B_j), with its exact velocity; then a refit.
+  for (Impl::Skinned& sk : im.skinned) {
+    const MeshPart& part = actors_[sk.actor].asset->parts[sk.part];
+    const SkinBinding& skin = *part.skin;
+    const std::vector<PartMotion>& motion = im.part_motion[sk.actor];
+    im.joints.M.resize(skin.joint_parts.size());
+    im.joints.M_dot.resize(skin.joint_parts.size());
+    for (std::size_t j = 0; j < skin.joint_parts.size(); ++j) {
+      const PartMotion& m = motion[static_cast<std::size_t>(skin.joint_parts[j])];
+      im.joints.M[j] = (m.M * skin.inverse_bind[j]).topRows<3>();
+      im.joints.M_dot[j] = (m.M_dot * skin.inverse_bind[j]).topRows<3>();
+    }
+    skin_vertices(skin, im.joints, part.vertices, sk.vertices, sk.velocity.data());
+    Eigen::AlignedBox3d& box = actor_box[sk.actor];
+    for (std::size_t v = 0; v < part.vertices.size(); ++v) {
+      box.extend(Eigen::Vector3d(sk.vertices[3 * v], sk.vertices[3 * v + 1], sk.vertices[3 * v + 2]));
+    }
+    rtcUpdateGeometryBuffer(sk.geometry, RTC_BUFFER_TYPE_VERTEX, 0);
+    rtcCommitGeometry(sk.geometry);
+    rtcCommitScene(sk.scene);
+    // The instance is unchanged, but the top level must take its new bounds.
+    rtcCommitGeometry(im.slots[im.part_slot[sk.actor][sk.part]].instance);
+  }
   for (std::size_t s = 1; s < im.slots.size(); ++s) {
     const Impl::Slot& slot = im.slots[s];
+    if (slot.skinned >= 0) continue;
     const Eigen::Matrix4d& M = im.part_motion[static_cast<std::size_t>(slot.actor)][static_cast<std::size_t>(slot.part)].M;
     // The part lies inside the image of its box's corners (the transform is affine).
     for (int corner = 0; corner < 8; ++corner) {
@@ -327,7 +450,8 @@ struct RayQuery {
   std::size_t index(std::size_t k) const { return order ? order[k] : k; }
   // Actors: only what is nearer than the hit so far (+inf: none).
   float tfar(std::size_t i) const { return actors ? std::min(far_m, hits[i].distance_m) : far_m; }
-  void store(std::size_t i, unsigned geom, unsigned inst, float t, unsigned prim, float nx, float ny, float nz) const {
+  void store(std::size_t i, unsigned geom, unsigned inst, float t, unsigned prim, float u, float v, float nx, float ny,
+             float nz) const {
     RayHit& out = hits[i];
     if (geom == RTC_INVALID_GEOMETRY_ID) {
       if (!actors) out.distance_m = std::numeric_limits<float>::infinity();
@@ -336,6 +460,8 @@ struct RayQuery {
     out.distance_m = t;
     out.slot = actors ? inst : 0;
     out.primitive = prim;
+    out.u = u;
+    out.v = v;
     out.normal_object = Eigen::Vector3f(nx, ny, nz);
   }
 };
@@ -370,8 +496,8 @@ void intersect_packets(const RayQuery& q, RTCIntersectContext& context) {
     }
     rtcIntersect16(valid, q.scene, &context, &rh);
     for (std::size_t k = 0; k < n; ++k) {
-      q.store(q.index(begin + k), rh.hit.geomID[k], rh.hit.instID[0][k], rh.ray.tfar[k], rh.hit.primID[k],
-              rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]);
+      q.store(q.index(begin + k), rh.hit.geomID[k], rh.hit.instID[0][k], rh.ray.tfar[k], rh.hit.primID[k], rh.hit.u[k],
+              rh.hit.v[k], rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]);
     }
   }
 }
@@ -406,8 +532,8 @@ void intersect_stream(const RayQuery& q, RTCIntersectContext& context) {
     rtcIntersect1M(q.scene, &context, rays, static_cast<unsigned>(n), sizeof(RTCRayHit));
     for (std::size_t k = 0; k < n; ++k) {
       const RTCRayHit& rh = rays[k];
-      q.store(q.index(begin + k), rh.hit.geomID, rh.hit.instID[0], rh.ray.tfar, rh.hit.primID, rh.hit.Ng_x,
-              rh.hit.Ng_y, rh.hit.Ng_z);
+      q.store(q.index(begin + k), rh.hit.geomID, rh.hit.instID[0], rh.ray.tfar, rh.hit.primID, rh.hit.u, rh.hit.v,
+              rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
     }
   }
 }

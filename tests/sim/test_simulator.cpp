@@ -9,19 +9,16 @@
 #include "fmcw/sim/lidar_simulator.hpp"
 #include "fmcw/sim/mesh_asset.hpp"
 #include "fmcw/sim/scene.hpp"
+#include "support/sim_scenes.hpp"
 
 namespace fmcw::sim {
 namespace {
 
+using test::at;
+using test::noise_free;
+
 std::shared_ptr<const MeshAsset> box_asset(const Eigen::Vector3f& h, float reflectivity = 0.5f) {
   return std::make_shared<const MeshAsset>(box_mesh(h, reflectivity));
-}
-
-Eigen::Isometry3d at(double x, double y, double z, double yaw = 0.0) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() = Eigen::Vector3d(x, y, z);
-  T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  return T;
 }
 
 SceneObject wall_at_x(double x) {
@@ -30,14 +27,6 @@ SceneObject wall_at_x(double x) {
   wall.asset = box_asset({0.5f, 200.0f, 100.0f});
   wall.trajectory = make_static_trajectory(at(x + 0.5, 0, 0));
   return wall;
-}
-
-LidarSimulatorParams noise_free(core::RigModel rig) {
-  LidarSimulatorParams p;
-  p.rig = std::move(rig);
-  p.measurement.range_sigma_m = 0.0;
-  p.measurement.velocity_sigma_mps = 0.0;
-  return p;
 }
 
 // One small head, 20 x 10 deg at 0.5 deg, mounted off the rig origin and yawed.
@@ -409,12 +398,7 @@ TEST(LidarSimulator, RollingWheelsTurnAboutTheirContactPoint) {
     }
     ++wheel_pixels;
     // Distance to the instantaneous axis: the line through the contact point along the axle.
-    const Eigen::Vector3d axle_dir = pose.linear() * Eigen::Vector3d::UnitY();
-    double nearest = 1e9;
-    for (const auto& c : contacts) {
-      const Eigen::Vector3d d = p - c;
-      nearest = std::min(nearest, (d - d.dot(axle_dir) * axle_dir).norm());
-    }
+    const double nearest = test::distance_to_contact_line(p, contacts, pose.linear() * Eigen::Vector3d::UnitY());
     ASSERT_NEAR(v.norm(), 10.0 / radius * nearest, 1e-3) << "pixel " << i;
     fastest = std::max(fastest, v.norm());
   }

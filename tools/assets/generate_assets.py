@@ -18,7 +18,11 @@ COORDINATE FRAME -- READ THIS BEFORE LOADING THE FILES
   footprint; vehicles face +X.  Exceptions (documented in assets/README.md):
   ``pole`` and ``sign`` have their origin at the base of the post.
 * Triangles are wound counter-clockwise seen from outside (outward normals);
-  every vertex carries a flat-shading NORMAL.
+  every vertex carries a flat-shading NORMAL (smooth shading for the skinned
+  walker).
+* Two assets are animated (glTF skins / animations): walker_skinned (skinned
+  human, clips 'walk' and 'idle') and car_keyframed (wheel spin as keyframes,
+  clip 'roll').  At rest every node has only a translation.
 
 The output is deterministic: coordinates are rounded before being packed as
 float32, JSON is written with sorted keys and there are no timestamps, so two
@@ -477,20 +481,51 @@ def arch(xc, zc, r, steps=6):
 
 
 class Node(object):
-    def __init__(self, name, mesh=None, translation=(0.0, 0.0, 0.0), children=None):
+    def __init__(self, name, mesh=None, translation=(0.0, 0.0, 0.0), children=None, skin=None):
         self.name = name
         self.mesh = mesh
         self.translation = translation
         self.children = children or []
+        self.skin = skin          # index into Asset.skins for a skinned mesh node
+
+
+class Skin(object):
+    """glTF skin.  The inverse bind matrices are not stored here: build_gltf derives
+    them from the joints' rest translations, so they cannot drift from the nodes."""
+
+    def __init__(self, name, joints, skeleton):
+        self.name = name
+        self.joints = joints      # joint node names; a vertex's JOINTS_0 indexes this list
+        self.skeleton = skeleton  # name of the skeleton root joint
+
+
+class Channel(object):
+    """One animated node property: times [s] and one value tuple per key."""
+
+    def __init__(self, node, path, times, values, interpolation="LINEAR"):
+        self.node = node
+        self.path = path          # "translation" or "rotation" (x, y, z, w)
+        self.times = times
+        self.values = values
+        self.interpolation = interpolation
+
+
+class Animation(object):
+    def __init__(self, name, channels, extras=None):
+        self.name = name
+        self.channels = channels
+        self.extras = extras
 
 
 class Asset(object):
-    def __init__(self, name, nodes, roots, description, paint=None):
+    def __init__(self, name, nodes, roots, description, paint=None, skins=None, animations=None):
         self.name = name
         self.nodes = nodes        # list of Node, index = glTF node index
         self.roots = roots        # names of scene root nodes
         self.description = description
         self.paint = paint        # optional car_paint colour override (RGB)
+        self.skins = skins or []
+        self.animations = animations or []
 
 
 def _q(v):
@@ -522,13 +557,15 @@ def build_gltf(asset):
     buffer_views, accessors, meshes, materials = [], [], [], []
     mesh_index, mat_index = {}, {}
 
-    def add_view(data, target):
+    def add_view(data, target=None):
         while len(buf) % 4:
             buf.append(0)
         off = len(buf)
         buf.extend(data)
-        buffer_views.append({"buffer": 0, "byteOffset": off, "byteLength": len(data),
-                             "target": target})
+        view = {"buffer": 0, "byteOffset": off, "byteLength": len(data)}
+        if target is not None:  # animation and skin data must not name a target
+            view["target"] = target
+        buffer_views.append(view)
         return len(buffer_views) - 1
 
     def material(name):
@@ -554,7 +591,7 @@ def build_gltf(asset):
     def add_mesh(mb):
         prims = []
         for mat in sorted(mb.prims):
-            pos, nor, ind = mb.prims[mat]
+            pos, nor, ind = mb.prims[mat][:3]
             if not ind:
                 continue
             qpos = [(_q(p[0]), _q(p[1]), _q(p[2])) for p in pos]
@@ -581,7 +618,19 @@ def build_gltf(asset):
             accessors.append({"bufferView": iv, "componentType": ctype, "count": len(ind),
                               "type": "SCALAR"})
             ia = len(accessors) - 1
-            prims.append({"attributes": {"POSITION": pa, "NORMAL": na}, "indices": ia,
+            attributes = {"POSITION": pa, "NORMAL": na}
+            if len(mb.prims[mat]) > 3:
+                # skinned mesh: four influences per vertex, joints as unsigned bytes
+                joints, weights = mb.prims[mat][3:]
+                jv = add_view(b"".join(struct.pack("<4B", *j) for j in joints), 34962)
+                wv = add_view(b"".join(struct.pack("<4f", *w) for w in weights), 34962)
+                accessors.append({"bufferView": jv, "componentType": 5121, "count": len(joints),
+                                  "type": "VEC4"})
+                attributes["JOINTS_0"] = len(accessors) - 1
+                accessors.append({"bufferView": wv, "componentType": 5126, "count": len(weights),
+                                  "type": "VEC4"})
+                attributes["WEIGHTS_0"] = len(accessors) - 1
+            prims.append({"attributes": attributes, "indices": ia,
                           "material": material(mat), "mode": 4})
         meshes.append({"name": mb.name, "primitives": prims})
         return len(meshes) - 1
@@ -598,7 +647,56 @@ def build_gltf(asset):
             entry["translation"] = _round_list(n.translation)
         if n.children:
             entry["children"] = [name_to_index[c] for c in n.children]
+        if n.skin is not None:
+            entry["skin"] = n.skin
         nodes.append(entry)
+
+    # Skins: the inverse bind matrix of a joint is the exact inverse of its global rest
+    # transform.  Rest transforms are pure translations (see Node), so it is the negated
+    # sum of the translations from the scene root down to the joint.
+    skins = []
+    for sk in asset.skins:
+        ibm = []
+        for j in sk.joints:
+            g = global_translation(asset, j)
+            # column-major 4x4: identity rotation, translation -g in the last column
+            ibm.extend([1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0,
+                        _q(-g[0]), _q(-g[1]), _q(-g[2]), 1.0])
+        view = add_view(struct.pack("<%df" % len(ibm), *ibm))
+        accessors.append({"bufferView": view, "componentType": 5126, "count": len(sk.joints),
+                          "type": "MAT4"})
+        skins.append({"name": sk.name, "joints": [name_to_index[j] for j in sk.joints],
+                      "inverseBindMatrices": len(accessors) - 1,
+                      "skeleton": name_to_index[sk.skeleton]})
+
+    # Animations: key times shared by several channels share one input accessor.
+    animations = []
+    time_accessor = {}
+    for anim in asset.animations:
+        samplers, channels = [], []
+        for ch in anim.channels:
+            key = tuple(ch.times)
+            if key not in time_accessor:
+                view = add_view(struct.pack("<%df" % len(ch.times), *ch.times))
+                f32t = [_f32(t) for t in ch.times]
+                accessors.append({"bufferView": view, "componentType": 5126,
+                                  "count": len(ch.times), "type": "SCALAR",
+                                  "min": [_f32_short(min(f32t))], "max": [_f32_short(max(f32t))]})
+                time_accessor[key] = len(accessors) - 1
+            width = len(ch.values[0])
+            flat = [_q(c) for v in ch.values for c in v]
+            view = add_view(struct.pack("<%df" % len(flat), *flat))
+            accessors.append({"bufferView": view, "componentType": 5126, "count": len(ch.values),
+                              "type": "VEC%d" % width})
+            samplers.append({"input": time_accessor[key], "output": len(accessors) - 1,
+                             "interpolation": ch.interpolation})
+            channels.append({"sampler": len(samplers) - 1,
+                             "target": {"node": name_to_index[ch.node], "path": ch.path}})
+        entry = {"name": anim.name, "samplers": samplers, "channels": channels}
+        if anim.extras:
+            entry["extras"] = anim.extras
+        animations.append(entry)
+
     while len(buf) % 4:
         buf.append(0)
     gltf = {
@@ -620,31 +718,41 @@ def build_gltf(asset):
             "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(buf)).decode("ascii"),
         }],
     }
+    if skins:
+        gltf["skins"] = skins
+    if animations:
+        gltf["animations"] = animations
     return json.dumps(gltf, indent=1, sort_keys=True, ensure_ascii=True) + "\n"
 
 
-def world_bbox(asset):
-    """Bounding box after applying node translations (the only transform used)."""
+def global_translation(asset, name):
+    """Rest position of a node's origin: the sum of the translations from the scene
+    root down to it (translation is the only rest transform used)."""
     parent = {}
     for n in asset.nodes:
         for c in n.children:
             parent[c] = n.name
     by_name = {n.name: n for n in asset.nodes}
+    off = [0.0, 0.0, 0.0]
+    while name is not None:
+        t = by_name[name].translation
+        off = [off[i] + t[i] for i in range(3)]
+        name = parent.get(name)
+    return off
+
+
+def world_bbox(asset):
+    """Bounding box after applying node translations (the only transform used)."""
     lo = [float("inf")] * 3
     hi = [float("-inf")] * 3
     tris = 0
     for n in asset.nodes:
         if n.mesh is None:
             continue
-        off = [0.0, 0.0, 0.0]
-        cur = n.name
-        while cur is not None:
-            t = by_name[cur].translation
-            off = [off[i] + t[i] for i in range(3)]
-            cur = parent.get(cur)
+        off = global_translation(asset, n.name)
         tris += n.mesh.triangle_count()
-        for pos, _, _ in n.mesh.prims.values():
-            for p in pos:
+        for prim in n.mesh.prims.values():
+            for p in prim[0]:
                 for i in range(3):
                     lo[i] = min(lo[i], p[i] + off[i])
                     hi[i] = max(hi[i], p[i] + off[i])
@@ -670,6 +778,9 @@ def vehicle_asset(name, body, wheel, wheel_positions, description, paint):
     for wname, pos in wheel_positions:
         nodes.append(Node(wname, wheel, pos))
     return Asset(name, nodes, [n.name for n in nodes], description, paint)
+
+
+CAR_WHEEL_RADIUS = 0.32  # shared by car and car_keyframed (its roll clip's nominal speed)
 
 
 def build_car():
@@ -699,10 +810,11 @@ def build_car():
     # side mirrors
     for s in (-1.0, 1.0):
         box(body, (0.55, min(s * 0.76, s * 0.92), 1.00), (0.68, max(s * 0.76, s * 0.92), 1.10), "car_paint")
-    wheel = wheel_mesh("car_wheel", 0.32, 0.23, 0.20)
+    r = CAR_WHEEL_RADIUS
+    wheel = wheel_mesh("car_wheel", r, 0.23, 0.20)
     y = 0.785
-    pos = [("wheel_fl", (1.35, y, 0.32)), ("wheel_fr", (1.35, -y, 0.32)),
-           ("wheel_rl", (-1.35, y, 0.32)), ("wheel_rr", (-1.35, -y, 0.32))]
+    pos = [("wheel_fl", (1.35, y, r)), ("wheel_fr", (1.35, -y, r)),
+           ("wheel_rl", (-1.35, y, r)), ("wheel_rr", (-1.35, -y, r))]
     return vehicle_asset("car", body, wheel, pos, "passenger car ~4.5 x 1.8 x 1.45 m",
                          (0.55, 0.06, 0.06))
 
@@ -923,6 +1035,419 @@ def build_pedestrian():
 
 
 # --------------------------------------------------------------------------
+# Skinned walker (linear blend skinning, keyframed clips)
+# --------------------------------------------------------------------------
+
+
+class SkinnedMeshBuilder(object):
+    """Smooth-shaded mesh for skinning: one primitive per material, vertices shared
+    within a shell, each vertex with four (joint, weight) influences."""
+
+    def __init__(self, name):
+        self.name = name
+        self.prims = {}  # material -> (positions, normals, indices, joints, weights)
+        self.tris = []
+
+    # same bookkeeping as MeshBuilder (self-checks, triangle count)
+    mark = MeshBuilder.mark
+    check_solid = MeshBuilder.check_solid
+    triangle_count = MeshBuilder.triangle_count
+
+    def shell(self, mat, pts, faces, influences):
+        """Add a closed surface: pts, faces (counter-clockwise seen from outside) and
+        per-vertex influence dicts {joint index: weight}.  Normals are the area-weighted
+        average of the adjacent faces, i.e. smooth across the whole shell."""
+        if mat not in MATERIALS:
+            raise ValueError("unknown material %r" % mat)
+        if mat not in self.prims:
+            self.prims[mat] = ([], [], [], [], [])
+        pos, nor, ind, jnt, wgt = self.prims[mat]
+        qpts = [(_q(p[0]), _q(p[1]), _q(p[2])) for p in pts]
+        acc = [(0.0, 0.0, 0.0)] * len(qpts)
+        start = self.mark()
+        for (a, b, c) in faces:
+            g = vcross(vsub(qpts[b], qpts[a]), vsub(qpts[c], qpts[a]))
+            if vlen(g) < 2e-10:
+                raise ValueError("degenerate triangle in shell of %s" % self.name)
+            for v in (a, b, c):
+                acc[v] = vadd(acc[v], g)
+            self.tris.append((qpts[a], qpts[b], qpts[c]))
+        self.check_solid(start, "shell")
+        base = len(pos)
+        for p, n, infl in zip(qpts, acc, influences):
+            pos.append(p)
+            # rounded like the positions so the file does not depend on the last bit of libm
+            nor.append(tuple(_q(c) for c in vnorm(n)))
+            j, w = pack_influences(infl)
+            jnt.append(j)
+            wgt.append(w)
+        ind.extend(base + v for f in faces for v in f)
+
+
+def pack_influences(infl):
+    """{joint: weight} -> (4 joint indices, 4 weights): largest first, weights rounded
+    to 1e-6 and renormalised so they still sum to 1; unused slots are joint 0, weight 0."""
+    items = sorted(((w, j) for j, w in infl.items() if w > 1e-6), key=lambda x: (-x[0], x[1]))
+    if not items or len(items) > 4:
+        raise ValueError("a vertex needs 1 to 4 influences, got %r" % (infl,))
+    total = sum(w for w, _ in items)
+    ws = [round(w / total, 6) for w, _ in items]
+    ws[0] = round(1.0 - sum(ws[1:]), 6)  # the rounding error goes to the largest weight
+    joints = [j for _, j in items] + [0] * (4 - len(items))
+    return tuple(joints), tuple(ws + [0.0] * (4 - len(items)))
+
+
+def _hermite_profile(stations, s):
+    """Radii/offsets at axial position s: cubic Hermite through the stations (s, values...)
+    with centred-difference slopes, zero slope at both ends so the caps join smoothly."""
+    n = len(stations)
+    k = 0
+    while k < n - 2 and s > stations[k + 1][0]:
+        k += 1
+    s0, s1 = stations[k][0], stations[k + 1][0]
+    h = s1 - s0
+    t = min(max((s - s0) / h, 0.0), 1.0)
+
+    def slope(i, c):
+        if i == 0 or i == n - 1:
+            return 0.0
+        return (stations[i + 1][c] - stations[i - 1][c]) / (stations[i + 1][0] - stations[i - 1][0])
+
+    h00 = 2 * t ** 3 - 3 * t ** 2 + 1
+    h10 = t ** 3 - 2 * t ** 2 + t
+    h01 = -2 * t ** 3 + 3 * t ** 2
+    h11 = t ** 3 - t ** 2
+    return tuple(h00 * stations[k][c] + h10 * h * slope(k, c) + h01 * stations[k + 1][c]
+                 + h11 * h * slope(k + 1, c) for c in range(1, len(stations[0])))
+
+
+def loft(sb, mat, origin, axis, forward, stations, segments, caps, weight_fn,
+         cap_rings=4, ring_step=0.04):
+    """Closed smooth solid around an axis: elliptical rings through `stations`
+    (s, r_forward, r_side[, d_forward, d_side]) -- s along `axis` from `origin`, radii along
+    `forward` (made perpendicular to the axis) and the side direction, optional centre
+    offsets -- closed by half-ellipsoid caps of depth caps = (before first, after last)
+    ending in a pole.  weight_fn(point) gives the vertex influences.  Returns the
+    vertices (bind pose)."""
+    a = vnorm(axis)
+    u = vnorm(vsub(forward, vmul(a, vdot(forward, a))))
+    v = vcross(a, u)  # (u, v, a) right-handed: ring order is counter-clockwise about a
+    stations = [tuple(st) + (0.0,) * (5 - len(st)) for st in stations]
+    rings = []  # (s, ru, rv, du, dv)
+    first, last = stations[0], stations[-1]
+    for j in range(1, cap_rings):
+        th = 0.5 * math.pi * j / cap_rings  # angle from the pole
+        rings.append((first[0] - caps[0] * math.cos(th), first[1] * math.sin(th),
+                      first[2] * math.sin(th), first[3], first[4]))
+    for k in range(len(stations) - 1):
+        s0, s1 = stations[k][0], stations[k + 1][0]
+        steps = max(1, int(math.ceil((s1 - s0) / ring_step - 1e-9)))
+        for i in range(steps):
+            s = s0 + (s1 - s0) * i / steps
+            rings.append((s,) + _hermite_profile(stations, s))
+    rings.append(last)
+    for j in range(cap_rings - 1, 0, -1):
+        th = 0.5 * math.pi * j / cap_rings
+        rings.append((last[0] + caps[1] * math.cos(th), last[1] * math.sin(th),
+                      last[2] * math.sin(th), last[3], last[4]))
+
+    def point(s, cu, cv):
+        return vadd(origin, vadd(vmul(a, s), vadd(vmul(u, cu), vmul(v, cv))))
+
+    pts = [point(first[0] - caps[0], first[3], first[4])]
+    for (s, ru, rv, du, dv) in rings:
+        for k in range(segments):
+            t = 2.0 * math.pi * k / segments
+            pts.append(point(s, du + ru * math.cos(t), dv + rv * math.sin(t)))
+    pts.append(point(last[0] + caps[1], last[3], last[4]))
+    top = len(pts) - 1
+
+    def ring_vertex(i, k):
+        return 1 + i * segments + k % segments
+
+    faces = []
+    for k in range(segments):
+        faces.append((0, ring_vertex(0, k + 1), ring_vertex(0, k)))
+    for i in range(len(rings) - 1):
+        for k in range(segments):
+            a0, a1 = ring_vertex(i, k), ring_vertex(i, k + 1)
+            b0, b1 = ring_vertex(i + 1, k), ring_vertex(i + 1, k + 1)
+            faces.append((a0, a1, b1))
+            faces.append((a0, b1, b0))
+    for k in range(segments):
+        faces.append((top, ring_vertex(len(rings) - 1, k), ring_vertex(len(rings) - 1, k + 1)))
+    sb.shell(mat, pts, faces, [weight_fn(p) for p in pts])
+    return pts
+
+
+# Skeleton: (joint, parent joint, rest translation relative to the parent).  The order is
+# the order of skin.joints, i.e. the values of JOINTS_0.  Rest rotations are identity, so
+# each joint's frame is parallel to the model frame and the inverse bind matrices are pure
+# translations.  Proportions follow the pedestrian (hip joints 0.90 m, knees 0.47 m).
+WALKER_SKELETON = [
+    ("hips", None, (0.0, 0.0, 0.95)),              # pelvis centre, root joint
+    ("spine", "hips", (0.0, 0.0, 0.12)),           # lower spine, 1.07 m
+    ("neck", "spine", (0.0, 0.0, 0.40)),           # base of the neck, 1.47 m
+    ("head", "neck", (0.0, 0.0, 0.10)),            # skull base, 1.57 m
+    ("upper_leg_l", "hips", (0.0, 0.09, -0.05)),   # hip joint
+    ("lower_leg_l", "upper_leg_l", (0.0, 0.0, -0.43)),  # knee
+    ("foot_l", "lower_leg_l", (0.0, 0.0, -0.39)),  # ankle, 0.08 m above the sole
+    ("upper_leg_r", "hips", (0.0, -0.09, -0.05)),
+    ("lower_leg_r", "upper_leg_r", (0.0, 0.0, -0.43)),
+    ("foot_r", "lower_leg_r", (0.0, 0.0, -0.39)),
+    ("upper_arm_l", "spine", (0.0, 0.18, 0.34)),   # shoulder
+    ("lower_arm_l", "upper_arm_l", (0.0, 0.03, -0.29)),  # elbow; arm slightly abducted
+    ("upper_arm_r", "spine", (0.0, -0.18, 0.34)),
+    ("lower_arm_r", "upper_arm_r", (0.0, -0.03, -0.29)),
+]
+WALKER_WRIST = (0.0, 0.01, -0.26)  # wrist relative to the elbow (y mirrored on the right)
+WALKER_LEG_LENGTH = 0.90           # hip joint to sole, for the hip swing amplitude
+
+
+def _clamp01(x):
+    return min(max(x, 0.0), 1.0)
+
+
+def build_walker_mesh(joint_pos):
+    """Body shells in the bind pose.  Each shell follows one bone; near a joint its
+    vertices blend linearly into the neighbouring bone (see the weight terms below).
+    Returns the mesh and, per side, the shoe's sole vertices (bind pose), which the
+    walk clip keeps on the ground."""
+    sb = SkinnedMeshBuilder("walker_body")
+    index = {name: i for i, (name, _, _) in enumerate(WALKER_SKELETON)}
+    d_blend = 0.04  # half-width of the blend band across a joint
+
+    def axial(joint, axis, d):
+        """Share of the bone beyond `joint` (along `axis`): 0.5 at the joint, rising
+        linearly to 1 at d past it and falling to 0 at d before it."""
+        J = joint_pos[joint]
+        return lambda p: _clamp01(0.5 + 0.5 * vdot(vsub(p, J), axis) / d)
+
+    def radial(joint, radius):
+        """Share of a bone attached beside the shell (shoulder on the torso, legs on the
+        pelvis, ankle on the foot): 0.5 at the joint, 0 beyond `radius`."""
+        J = joint_pos[joint]
+        return lambda p: 0.5 * _clamp01(1.0 - vlen(vsub(p, J)) / radius)
+
+    def weights(bone, terms):
+        """terms: (other joint, share function); the bone keeps the rest."""
+        def fn(p):
+            infl = {}
+            for other, share in terms:
+                w = share(p)
+                if w > 0.0:
+                    infl[index[other]] = infl.get(index[other], 0.0) + w
+            rest = 1.0 - sum(infl.values())
+            if rest < -1e-9:
+                raise ValueError("blend shares exceed 1 on bone %s" % bone)
+            infl[index[bone]] = infl.get(index[bone], 0.0) + max(rest, 0.0)
+            return infl
+        return fn
+
+    up, down = (0.0, 0.0, 1.0), (0.0, 0.0, -1.0)
+    fwd = (1.0, 0.0, 0.0)
+    O = (0.0, 0.0, 0.0)
+    soles = {}
+
+    def inv(f):
+        return lambda p: 1.0 - f(p)
+
+    # pelvis: spine above, both thighs beside -> the crotch gets three influences
+    loft(sb, "cloth", (-0.01, 0.0, 0.0), up, fwd,
+         [(0.86, 0.10, 0.15), (0.92, 0.115, 0.165), (0.99, 0.11, 0.16), (1.05, 0.10, 0.145)],
+         20, (0.05, 0.03),
+         weights("hips", [("spine", axial("spine", up, d_blend)),
+                          ("upper_leg_l", radial("upper_leg_l", 0.15)),
+                          ("upper_leg_r", radial("upper_leg_r", 0.15))]))
+    # torso: waist to shoulders; the shoulder tops follow the arms a little
+    loft(sb, "cloth", O, up, fwd,
+         [(1.02, 0.10, 0.14), (1.10, 0.10, 0.135), (1.20, 0.11, 0.145), (1.30, 0.12, 0.155),
+          (1.38, 0.115, 0.165), (1.44, 0.10, 0.175)],
+         20, (0.03, 0.05),
+         weights("spine", [("hips", inv(axial("spine", up, d_blend))),
+                           ("upper_arm_l", radial("upper_arm_l", 0.10)),
+                           ("upper_arm_r", radial("upper_arm_r", 0.10))]))
+    loft(sb, "skin", O, up, fwd,
+         [(1.45, 0.05, 0.055), (1.53, 0.045, 0.05), (1.60, 0.045, 0.048)],
+         12, (0.02, 0.02),
+         weights("neck", [("spine", inv(axial("neck", up, 0.03))),
+                          ("head", axial("head", up, 0.03))]))
+    # head: an ellipsoid (a single station with two half-ellipsoid caps)
+    loft(sb, "skin", (0.01, 0.0, 0.0), up, fwd, [(1.645, 0.10, 0.08)], 20, (0.11, 0.11),
+         weights("head", [("neck", inv(axial("head", up, 0.03)))]), cap_rings=8)
+
+    for side, sy in (("l", 1.0), ("r", -1.0)):
+        hip, knee, ankle = (joint_pos["upper_leg_" + side], joint_pos["lower_leg_" + side],
+                            joint_pos["foot_" + side])
+        shoulder, elbow = joint_pos["upper_arm_" + side], joint_pos["lower_arm_" + side]
+        wrist = vadd(elbow, (WALKER_WRIST[0], sy * WALKER_WRIST[1], WALKER_WRIST[2]))
+        thigh_dir = vnorm(vsub(knee, hip))
+        shin_dir = vnorm(vsub(ankle, knee))
+        upper_arm_dir = vnorm(vsub(elbow, shoulder))
+        forearm_dir = vnorm(vsub(wrist, elbow))
+        ul, ll, ft = "upper_leg_" + side, "lower_leg_" + side, "foot_" + side
+        ua, la = "upper_arm_" + side, "lower_arm_" + side
+        loft(sb, "cloth", hip, thigh_dir, fwd,
+             [(0.0, 0.085, 0.08), (0.15, 0.075, 0.07), (0.40, 0.055, 0.052)], 16, (0.06, 0.04),
+             weights(ul, [("hips", inv(axial(ul, thigh_dir, 0.05))),
+                          (ll, axial(ll, shin_dir, d_blend))]))
+        loft(sb, "cloth", knee, shin_dir, fwd,
+             [(0.0, 0.055, 0.052), (0.12, 0.058, 0.05), (0.36, 0.036, 0.034)], 16, (0.04, 0.03),
+             weights(ll, [(ul, inv(axial(ll, shin_dir, d_blend))),
+                          (ft, axial(ft, down, 0.03))]))
+        # shoe: along +x, centre height = vertical radius so the sole touches z = 0
+        shoe = loft(sb, "cloth", (0.0, hip[1], 0.0), fwd, up,
+                    [(-0.05, 0.045, 0.040, 0.045), (0.02, 0.045, 0.045, 0.045),
+                     (0.10, 0.035, 0.048, 0.035), (0.17, 0.025, 0.042, 0.025)], 14,
+                    (0.025, 0.035), weights(ft, [(ll, radial(ft, 0.07))]))
+        # below 1 cm the shoe is more than 7 cm from the ankle: rigid on the foot bone
+        soles[side] = [q for q in shoe if q[2] < 0.01]
+        loft(sb, "cloth", shoulder, upper_arm_dir, fwd,
+             [(0.0, 0.05, 0.048), (0.12, 0.047, 0.044), (vlen(vsub(elbow, shoulder)), 0.04, 0.038)],
+             12, (0.05, 0.035),
+             weights(ua, [("spine", inv(axial(ua, upper_arm_dir, d_blend))),
+                          (la, axial(la, forearm_dir, d_blend))]))
+        loft(sb, "cloth", elbow, forearm_dir, fwd,
+             [(0.0, 0.042, 0.04), (0.10, 0.042, 0.038), (vlen(vsub(wrist, elbow)), 0.03, 0.026)],
+             12, (0.035, 0.02),
+             weights(la, [(ua, inv(axial(la, forearm_dir, d_blend)))]))
+        # hand: flat (wide along x, thin across), rigid on the forearm bone
+        hand_end = vadd(wrist, (0.01, sy * 0.005, -0.19))
+        hand_dir = vnorm(vsub(hand_end, wrist))
+        loft(sb, "skin", wrist, hand_dir, fwd,
+             [(0.03, 0.035, 0.018), (0.09, 0.045, 0.02), (0.14, 0.04, 0.016)], 12, (0.03, 0.05),
+             weights(la, []))
+    return sb, soles
+
+
+def _quat_y(angle):
+    """Unit quaternion (x, y, z, w) for a rotation by `angle` about +y.  For |angle| < pi
+    w > 0, so consecutive keys of a smooth curve stay sign-continuous."""
+    return (0.0, math.sin(0.5 * angle), 0.0, math.cos(0.5 * angle))
+
+
+def _rot_y(angle, p):
+    c, s = math.cos(angle), math.sin(angle)
+    return (c * p[0] + s * p[2], p[1], -s * p[0] + c * p[2])
+
+
+def _walker_point(joint, p, angles, joint_pos):
+    """Model-frame position of bind-pose point p, rigidly attached to `joint`, when each
+    joint rotates by angles[joint] about its local +y (the only rotations the walk uses;
+    rest rotations are identity, so a joint's frame is the model frame moved to it)."""
+    parents = dict((name, par) for name, par, _ in WALKER_SKELETON)
+    trans = dict((name, t) for name, _, t in WALKER_SKELETON)
+    q = vsub(p, joint_pos[joint])
+    cur = joint
+    while cur is not None:
+        q = vadd(trans[cur], _rot_y(angles.get(cur, 0.0), q))
+        cur = parents[cur]
+    return q
+
+
+def walk_animation(joint_pos, soles, speed=1.4):
+    """In-place walk cycle, the procedural gait of sim/src/trajectory.cpp (pedestrian_gait)
+    baked into keys: positive angle about local +y swings a limb's lower end backwards.
+
+    One gait cycle is 32 keys of 1/30 s = 1.0667 s (0.9375 Hz, the project's 0.93 Hz at
+    1.4 m/s rounded so every key falls on the 30 Hz grid).  Per side x = 2 pi t / T + phase
+    (left 0, right pi): hip = A sin(x), the foot moving back in stance (x in (-pi/2, pi/2));
+    knee = K (1 + sin(x - pi/4)) >= 0 peaks early in swing; the arm swings opposite its leg
+    and the elbow stays flexed (< 0), most when the arm is forward.  The shoe pitches
+    F sin(x) in the model frame: toes up at heel strike, level at mid-stance, toes down at
+    toe-off.  The hips only move vertically, by as much as keeps the lowest sole vertex on
+    z = 0 at every key (the legs' swing shortens their reach by up to ~4 cm); there is no
+    x/y motion: the simulator moves the body along its path."""
+    n = 32
+    period = n / 30.0
+    times = [k / 30.0 for k in range(n + 1)]
+    step = speed * period / 2.0  # one step = half a stride
+    hip_amp = math.asin(step / (2.0 * WALKER_LEG_LENGTH))  # legs span one step, ~24.5 deg
+    knee_amp = math.radians(25.0)   # knee 0 .. 50 deg
+    foot_amp = math.radians(25.0)
+    arm_amp = math.radians(20.0)
+    elbow_amp = 0.4 * arm_amp
+    elbow_offset = -(math.radians(5.0) + 0.6 * arm_amp)  # -17 deg: -25 .. -9 deg
+
+    def phase(k):
+        return 2.0 * math.pi * (k % n) / n  # k = n wraps onto k = 0: last key == first key
+
+    angles = [dict() for _ in range(n + 1)]
+    for k in range(n + 1):
+        for side, ph in (("l", 0.0), ("r", math.pi)):
+            x = phase(k) + ph
+            hip = hip_amp * math.sin(x)
+            knee = knee_amp * (1.0 + math.sin(x - 0.25 * math.pi))
+            angles[k]["upper_leg_" + side] = hip
+            angles[k]["lower_leg_" + side] = knee
+            angles[k]["foot_" + side] = foot_amp * math.sin(x) - hip - knee
+            angles[k]["upper_arm_" + side] = arm_amp * math.sin(x + math.pi)
+            angles[k]["lower_arm_" + side] = elbow_offset + elbow_amp * math.sin(x + math.pi)
+    hips = joint_pos["hips"]
+    heights = []
+    for k in range(n + 1):
+        low = min(_walker_point("foot_" + side, q, angles[k], joint_pos)[2]
+                  for side in ("l", "r") for q in soles[side])
+        heights.append((0.0, 0.0, hips[2] - low))
+    channels = [Channel("hips", "translation", times, heights)]
+    for side in ("l", "r"):
+        for joint in ("upper_leg_", "lower_leg_", "foot_", "upper_arm_", "lower_arm_"):
+            channels.append(Channel(joint + side, "rotation", times,
+                                    [_quat_y(angles[k][joint + side]) for k in range(n + 1)]))
+    return Animation("walk", channels, {"nominal_speed_mps": speed})
+
+
+def idle_animation():
+    """Standing idle, 2 s loop at 30 Hz: the spine pitches +-1 deg (breathing) and the
+    arms sway +-3 deg, a quarter cycle later."""
+    n = 60
+    times = [k / 30.0 for k in range(n + 1)]
+    ph = [2.0 * math.pi * (k % n) / n for k in range(n + 1)]
+    spine = [math.radians(1.0) * math.sin(x) for x in ph]
+    arm = [math.radians(3.0) * math.sin(x - 0.5 * math.pi) for x in ph]
+    channels = [Channel("spine", "rotation", times, [_quat_y(x) for x in spine])]
+    for side in ("l", "r"):
+        channels.append(Channel("upper_arm_" + side, "rotation", times, [_quat_y(x) for x in arm]))
+    return Animation("idle", channels)
+
+
+def build_walker_skinned():
+    joint_pos = {}
+    for name, parent, t in WALKER_SKELETON:
+        joint_pos[name] = vadd(joint_pos[parent], t) if parent else t
+    body, soles = build_walker_mesh(joint_pos)
+    children = dict((name, []) for name, _, _ in WALKER_SKELETON)
+    for name, parent, _ in WALKER_SKELETON:
+        if parent:
+            children[parent].append(name)
+    nodes = [Node("walker", None, (0.0, 0.0, 0.0), ["hips", "body_mesh"])]
+    nodes += [Node(name, None, t, children[name]) for name, _, t in WALKER_SKELETON]
+    nodes.append(Node("body_mesh", body, skin=0))
+    skin = Skin("walker_skin", [name for name, _, _ in WALKER_SKELETON], "hips")
+    return Asset("walker_skinned", nodes, ["walker"],
+                 "skinned walking human ~1.75 m, facing +X; clips 'walk' (in place, "
+                 "nominal 1.4 m/s) and 'idle'", skins=[skin],
+                 animations=[walk_animation(joint_pos, soles), idle_animation()])
+
+
+def build_car_keyframed():
+    """The car with its wheel spin as keyframes: clip 'roll' turns every wheel once about
+    its local +y (positive = rolling forward along +x) in 1 s, 9 keys 45 deg apart.  Keys
+    are sign-continuous, so the last is q(360 deg) = -q(0)."""
+    car = build_car()
+    duration = 1.0
+    times = [duration * k / 8.0 for k in range(9)]
+    keys = [_quat_y(2.0 * math.pi * k / 8.0) for k in range(9)]
+    wheels = [n.name for n in car.nodes if n.name.startswith("wheel_")]
+    channels = [Channel(w, "rotation", times, keys) for w in wheels]
+    speed = round(2.0 * math.pi * CAR_WHEEL_RADIUS / duration, 6)
+    roll = Animation("roll", channels, {"nominal_speed_mps": speed})
+    return Asset("car_keyframed", car.nodes, car.roots,
+                 "passenger car ~4.5 x 1.8 x 1.45 m; clip 'roll' spins the wheels one turn "
+                 "(r = %.2f m) per second" % CAR_WHEEL_RADIUS, car.paint, animations=[roll])
+
+
+# --------------------------------------------------------------------------
 # Static world
 # --------------------------------------------------------------------------
 
@@ -1127,6 +1652,8 @@ BUILDERS = [
     ("bus", build_bus),
     ("cyclist", build_cyclist),
     ("pedestrian", build_pedestrian),
+    ("walker_skinned", build_walker_skinned),
+    ("car_keyframed", build_car_keyframed),
     ("road_segment", build_road_segment),
     ("intersection_patch", build_intersection_patch),
     ("building_block", build_building_block),

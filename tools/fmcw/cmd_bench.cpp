@@ -71,6 +71,7 @@ int run_bench(const BenchOptions& opt) {
   // Simulation of one frame of the scenario's rig, scene update included.
   {
     const sim::LoadedScenario loaded = sim::load_scenario(opt.scenario);
+    say_notices(loaded.notices);
     sim::SimulationSetup setup = sim::build_simulation(loaded, opt.sim_threads);
     sim::LidarSimulator simulator(setup.scene, setup.ego, setup.params);
     const double rays = static_cast<double>(setup.params.rig.rows()) * setup.params.rig.cols();

@@ -62,6 +62,7 @@ Action add_run_command(CLI::App& app) {
     params.num_threads = opt->threads;
     params.validate();
     const sim::LoadedScenario loaded = sim::load_scenario(opt->scenario);
+    say_notices(loaded.notices);
     const fs::path dataset_dir = fs::path(opt->output) / "dataset";
     clear_previous_dataset(dataset_dir, opt->overwrite);
 

@@ -76,6 +76,7 @@ Action add_simulate_command(CLI::App& app) {
     opt->dataset.tool_version = FMCW_VERSION;
     if (!opt->shard.empty()) std::tie(opt->dataset.shard_index, opt->dataset.shard_count) = parse_shard(opt->shard);
     const sim::LoadedScenario loaded = sim::load_scenario(opt->scenario);
+    say_notices(loaded.notices);
     install_stop_handlers();
     opt->dataset.stop_requested = [] { return g_stop_signal != 0; };
     Progress progress("simulate " + loaded.scenario.name);

@@ -138,6 +138,7 @@ int run_threshold(ThresholdOptions& opt) {
   p.stride = opt.in.stride;
   p.validate();
   const std::unique_ptr<eval::FrameSource> source = eval::open_frame_source(opt.in.input, opt.in.frames);
+  say_notices(source->info().notices);
   Progress progress("threshold study");
   const eval::ThresholdStudyResult r = eval::run_threshold_study(
       *source, p, [&](std::size_t done, std::size_t total) { progress.update(static_cast<int>(done), static_cast<int>(total)); });
@@ -178,6 +179,7 @@ int run_object_points(ObjectPointsOptions& opt) {
   p.stride = opt.in.stride;
   p.validate();
   const std::unique_ptr<eval::FrameSource> source = eval::open_frame_source(opt.in.input, opt.in.frames);
+  say_notices(source->info().notices);
   Progress progress("object-points study");
   const eval::ObjectPointsStudyResult r = eval::run_object_points_study(
       *source, p, [&](std::size_t done, std::size_t total) { progress.update(static_cast<int>(done), static_cast<int>(total)); });

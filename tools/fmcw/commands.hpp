@@ -4,7 +4,9 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <iostream>
 #include <string>
+#include <vector>
 
 #include "fmcw/eval/evaluation_report.hpp"
 
@@ -21,6 +23,11 @@ Action add_evaluate_command(CLI::App& app);
 Action add_run_command(CLI::App& app);
 Action add_study_command(CLI::App& app);
 Action add_export_command(CLI::App& app);
+
+/// Says once, on stderr, what the input's files hold that the run does not use.
+inline void say_notices(const std::vector<std::string>& notices) {
+  for (const auto& n : notices) std::cerr << "fmcw: note: " << n << "\n";
+}
 
 /// Runs the evaluation of a dataset and writes its report (metrics.json, tables, and figures
 /// plus report.html unless no_figures), with progress on stderr. Shared by evaluate and run.

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "fmcw/core/ground_truth.hpp"
 #include "fmcw/sim/lidar_simulator.hpp"
@@ -19,6 +20,7 @@ struct SourceInfo {
   double rate_hz = 10.0;       ///< frame rate [Hz]
   std::uint64_t seed = 0;      ///< simulation noise seed
   std::string config_yaml;     ///< the resolved scenario as YAML (the exact config of the run)
+  std::vector<std::string> notices;  ///< what the scenario's files hold that is not used, for the caller to say once
 };
 
 class FrameSource {

@@ -26,6 +26,14 @@ struct TrajectorySpec {
   double nominal_speed_mps() const;  ///< for gait frequency: typical speed along the trajectory
 };
 
+/// An actor's `animation:` block: which clip of its mesh it plays and how.
+struct AnimationSpec {
+  bool given = false;  ///< written in the scenario (else, with animate on, the first clip loops)
+  std::string clip;    ///< as written (a name or an index); after loading, the clip's name
+  int clip_index = -1; ///< resolved at load; -1: the actor plays no clip
+  ClipPlayback playback;
+};
+
 struct ObjectSpec {
   std::string name;
   std::string class_name = "static";
@@ -34,7 +42,8 @@ struct ObjectSpec {
   std::string mesh_path;          ///< resolved against the scenario's folder
   Eigen::Affine3d T_body_asset = Eigen::Affine3d::Identity();  ///< mesh_transform
   TrajectorySpec trajectory;
-  bool animate = true;  ///< spin parts named wheel*, walk pedestrians
+  bool animate = true;  ///< play the mesh's clip; spin parts named wheel*, walk pedestrians
+  AnimationSpec animation;
 };
 
 struct Scenario {
@@ -74,6 +83,9 @@ struct LoadedScenario {
   Scenario scenario;
   std::vector<std::shared_ptr<const MeshAsset>> static_meshes;  ///< one per static object
   std::vector<std::shared_ptr<const MeshAsset>> actor_meshes;   ///< one per actor
+  /// What the scenario's files hold that the simulation does not use (clips of actors that do
+  /// not animate, morph targets, ...): one line each, for the caller to say once.
+  std::vector<std::string> notices;
 };
 LoadedScenario load_scenario(const std::string& path);
 

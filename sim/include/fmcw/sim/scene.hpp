@@ -28,6 +28,10 @@ struct SceneObject {
   double gait_speed_mps = 0.0;
   /// Part index -> wheel radius [m]: the part spins about its local +y at forward speed / radius.
   std::vector<std::pair<int, double>> wheels;
+  /// Index into asset->clips of the clip the actor plays (-1: none), and how it plays it. A
+  /// part the clip animates follows the clip, not a procedural joint or wheel rule.
+  int clip = -1;
+  ClipPlayback playback;
 };
 
 /// Where a ray hit, before the hit is resolved into a surface sample.
@@ -35,6 +39,7 @@ struct RayHit {
   float distance_m = 0.0f;  ///< +inf when nothing was hit within range
   std::uint32_t slot = 0;   ///< instance slot (0: static world)
   std::uint32_t primitive = 0;
+  float u = 0.0f, v = 0.0f;  ///< barycentric: the hit is (1 - u - v) v0 + u v1 + v v2 of the triangle
   Eigen::Vector3f normal_object = Eigen::Vector3f::UnitZ();  ///< unnormalised, object space
 };
 
@@ -44,8 +49,22 @@ struct SlotMotion {
   Eigen::Matrix<double, 3, 4> velocity_field = Eigen::Matrix<double, 3, 4>::Zero();  ///< v(p) = K [p; 1], world
   Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Identity();  ///< inverse transpose of the part's 3x3
   const float* reflectivity = nullptr;                          ///< per triangle of the part
+  /// A skinned part (vertices in the world frame, deformed each set_time): each vertex's exact
+  /// velocity (world) and the part's triangles. Null for rigid parts.
+  const Eigen::Vector3d* vertex_velocity = nullptr;
+  const std::uint32_t* indices = nullptr;
   std::uint32_t actor_id = 0;
   std::uint32_t actor_index = 0;  ///< into actors()
+
+  /// Velocity (world) of the surface point hit at p (world): the rigid field of the part, or for
+  /// a skinned part the material point's velocity, its vertices' velocities blended by the hit's
+  /// barycentric coordinates (exact for the deforming flat triangle).
+  Eigen::Vector3d velocity(const RayHit& hit, const Eigen::Vector3d& p) const {
+    if (vertex_velocity == nullptr) return velocity_field.leftCols<3>() * p + velocity_field.col(3);
+    const std::uint32_t* t = indices + 3 * static_cast<std::size_t>(hit.primitive);
+    const double u = hit.u, v = hit.v;
+    return (1.0 - u - v) * vertex_velocity[t[0]] + u * vertex_velocity[t[1]] + v * vertex_velocity[t[2]];
+  }
 };
 
 /// The two layers of a scene, traced separately (see Scene::intersect).
@@ -78,7 +97,8 @@ class Scene {
   /// Builds every BVH. Throws std::runtime_error on an Embree error.
   void build();
 
-  /// Moves every actor to time t (pose, joints, wheels) and re-commits the top-level scene.
+  /// Moves every actor to time t (pose, clips, joints, wheels, skins: each skinned part's
+  /// vertices are deformed and its BVH refit) and re-commits the top-level scene.
   void set_time(double t_s);
   double time() const { return time_s_; }
 
@@ -101,7 +121,7 @@ class Scene {
       return s;
     }
     const SlotMotion& m = slots_[hit.slot];
-    s.velocity_world_mps = m.velocity_field.leftCols<3>() * point_world + m.velocity_field.col(3);
+    s.velocity_world_mps = m.velocity(hit, point_world);
     // Normals transform with the inverse transpose (parts may be scaled).
     s.normal_world = (m.normal_matrix * hit.normal_object.cast<double>()).normalized();
     s.reflectivity = m.reflectivity[hit.primitive];
@@ -121,8 +141,12 @@ class Scene {
   /// Body state of actor k at the current time.
   const MotionState& actor_state(std::size_t k) const { return actor_states_[k]; }
   std::size_t static_triangle_count() const { return static_reflectivity_.size(); }
+  /// Vertices of actor k's skinned parts, deformed at the current time (world frame): what the
+  /// rays see. Empty for an actor without skins.
+  std::vector<Eigen::Vector3f> skinned_vertices(std::size_t k) const;
 
  private:
+  void add_skinned_slot(std::size_t actor, std::size_t part);
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::vector<SceneObject> actors_;
