@@ -84,6 +84,10 @@ void bind_simulation(py::module_& m) {
       .def_property_readonly("rate_hz", [](const eval::ScenarioSource& s) { return s.info().rate_hz; })
       .def_property_readonly("seed", [](const eval::ScenarioSource& s) { return s.info().seed; })
       .def_property_readonly("config_yaml", [](const eval::ScenarioSource& s) { return s.info().config_yaml; })
+      .def_property_readonly(
+          "notices", [](const eval::ScenarioSource& s) { return s.info().notices; },
+          "What the scenario's files hold that the simulation does not use (clips of actors that do not animate, "
+          "morph targets, ...): one line each")
       .def(
           "frame",
           [](eval::ScenarioSource& s, std::size_t k) {

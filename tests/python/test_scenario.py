@@ -82,3 +82,20 @@ def test_errors(scenario, tmp_path):
     bad.write_text("name: x\nframes: -2\n")
     with pytest.raises(ValueError, match="bad.yaml"):
         fmcw.Scenario(str(bad))
+
+
+def test_imported_animation_moves_and_unplayed_clips_are_noted():
+    crosswalk = fmcw.Scenario(str(SOURCE_DIR / "scenarios" / "crosswalk.yaml"), frames=20)
+    # Actor 8 is a skinned walker with animate: false: its clips are noted, once.
+    assert len(crosswalk.notices) == 1
+    assert "walker_skinned.gltf" in crosswalk.notices[0] and "animate: false" in crosswalk.notices[0]
+    assert fmcw.Scenario(STRAIGHT_ROAD, frames=1).notices == []
+    frame = crosswalk.frame(15)
+    instance = np.asarray(frame.truth["instance"])
+    moving = np.asarray(frame.truth["moving"]).astype(bool)
+    # The skinned walkers crossing (ids 2, 5, 6 walk from the start) have moving pixels; the statue none.
+    for walker in (2, 5, 6):
+        assert np.count_nonzero(moving & (instance == walker)) > 20, walker
+    assert np.count_nonzero(instance == 8) > 20
+    assert np.count_nonzero(moving & (instance == 8)) == 0
+
