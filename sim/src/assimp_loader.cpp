@@ -179,8 +179,13 @@ MeshAsset load_assimp_asset(const std::string& path, const ReflectivityTable& re
   const aiScene* scene = importer.ReadFile(
       path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
                 aiProcess_FindDegenerates | aiProcess_ValidateDataStructure);
-  if (scene == nullptr || scene->mRootNode == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
+  if (scene == nullptr || scene->mRootNode == nullptr) {
     throw std::invalid_argument("mesh '" + path + "' cannot be read: " + importer.GetErrorString());
+  }
+  // assimp reads a file without a mesh (an FBX of a skeleton, a camera path or an animation
+  // alone) and flags the scene incomplete, with no error to give.
+  if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) {
+    throw std::invalid_argument("mesh '" + path + "' holds no triangles: assimp finds no mesh in it");
   }
   MeshAsset asset;
   asset.path = path;
