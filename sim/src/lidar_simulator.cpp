@@ -269,28 +269,64 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
     const detail::ShadingContext shading{*scene_, measurement_, directions_world_.data(), directions_rig_.data(),
                                          R_wr, moving_threshold_sq, detail::PixelArrays(scan, gt)};
     std::vector<std::vector<ActorFootprint>> footprints(span.size());
-    enum : int { kMoving, kReady, kFailed };
+    // The scene update: kMoving while the bodies move (one thread), kSkinning while any thread
+    // that reaches it takes the next skin to deform and refit, kReady once the last skin's
+    // thread has committed the scene and drawn the footprints.
+    enum : int { kMoving, kSkinning, kReady, kFailed };
     std::atomic<int> scene_state{kMoving};
+    std::atomic<std::size_t> next_skin{0}, skins_done{0};
+    const std::size_t skins = scene_->skin_count();
     std::exception_ptr failure;
+    const auto fail = [&] {
+#pragma omp critical(fmcw_simulate_failure)
+      if (!failure) failure = std::current_exception();
+      scene_state.store(kFailed, std::memory_order_release);
+    };
+    const auto finish_update = [&] {
+      scene_->end_time();
+      for (std::size_t h = 0; h < span.size(); ++h) {
+        // Sub-rays leave their beam's axis by up to half the cone: a generous margin.
+        const double margin = kCullMarginRad + (pattern_.offsets.size() > 1 ? params_.divergence.divergence_rad : 0.0);
+        actor_footprints(scene_->actor_bounds(), params_.rig.heads[h], head_infos_[h].col_begin,
+                         pose.T_world_rig * params_.rig.heads[h].T_rig_head, margin, footprints[h]);
+      }
+      scene_state.store(kReady, std::memory_order_release);
+    };
+    // Deforms skins while there are any left; the thread that completes the last finishes the
+    // update. Returns the state to wait on.
+    const auto help_update = [&]() -> int {
+      int state = scene_state.load(std::memory_order_acquire);
+      while (state == kSkinning) {
+        const std::size_t k = next_skin.fetch_add(1);
+        if (k >= skins) break;
+        try {
+          scene_->update_skin(k);
+          if (skins_done.fetch_add(1) + 1 == skins) finish_update();
+        } catch (...) {
+          fail();
+        }
+        state = scene_state.load(std::memory_order_acquire);
+      }
+      return state;
+    };
 
 #pragma omp parallel num_threads(threads)
     {
       // One thread moves the actors to the slice's instant while the others start on the static
-      // world, which never moves: on two threads the update costs no time of its own.
+      // world, which never moves: on two threads the update costs no time of its own. Skins are
+      // shared out: each thread that reaches the actor layer first helps deform them.
 #pragma omp single nowait
       {
         try {
-          scene_->set_time(t_slice);
-          for (std::size_t h = 0; h < span.size(); ++h) {
-            // Sub-rays leave their beam's axis by up to half the cone: a generous margin.
-            const double margin = kCullMarginRad + (pattern_.offsets.size() > 1 ? params_.divergence.divergence_rad : 0.0);
-            actor_footprints(scene_->actor_bounds(), params_.rig.heads[h], head_infos_[h].col_begin,
-                             pose.T_world_rig * params_.rig.heads[h].T_rig_head, margin, footprints[h]);
+          scene_->begin_time(t_slice);
+          if (skins == 0) {
+            finish_update();
+          } else {
+            scene_state.store(kSkinning, std::memory_order_release);
+            help_update();
           }
-          scene_state.store(kReady, std::memory_order_release);
         } catch (...) {
-          failure = std::current_exception();
-          scene_state.store(kFailed, std::memory_order_release);
+          fail();
         }
       }
       ThreadScratch& scratch = scratch_[static_cast<std::size_t>(omp_get_thread_num())];
@@ -305,8 +341,11 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
         const int r1 = std::min(rows, r0 + kBlockRows);
         prepare_rows(r0, r1, span, rotate ? &R_wr_f : nullptr, scan);
         if (pattern_.offsets.size() == 1) cast_static_block(r0, r1, span, heads, scratch);
-        int state = kMoving;
-        while ((state = scene_state.load(std::memory_order_acquire)) == kMoving) std::this_thread::yield();
+        int state = help_update();
+        while (state == kMoving || state == kSkinning) {
+          std::this_thread::yield();
+          state = help_update();
+        }
         if (state == kFailed) continue;
         if (pattern_.offsets.size() == 1) cast_actor_block(r0, r1, span, heads, footprints, scratch);
         for (int r = r0; r < r1; ++r) {

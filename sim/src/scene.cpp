@@ -74,11 +74,12 @@ struct Scene::Impl {
     RTCGeometry geometry = nullptr;
     float* vertices = nullptr;  // Embree's vertex buffer
     std::vector<Eigen::Vector3d> velocity;
+    Eigen::AlignedBox3d box;  // of the deformed vertices, world, at the current time
+    JointMatrices joints;     // scratch
   };
   std::vector<Skinned> skinned;
   // Per actor and part: the track of the actor's clip that animates the part, -1 for none.
   std::vector<std::vector<int>> clip_track;
-  JointMatrices joints;  // scratch for skinning
   // Per actor: per-part motion at the current time, and each part's slot (0: no triangles).
   std::vector<std::vector<PartMotion>> part_motion;
   std::vector<std::vector<std::uint32_t>> part_slot;
@@ -257,6 +258,10 @@ void Scene::build() {
       slots_.push_back(motion);
     }
   }
+  // Pointers into the skins last, when the vector of skins has stopped growing.
+  for (std::size_t s = 1; s < im.slots.size(); ++s) {
+    if (im.slots[s].skinned >= 0) slots_[s].vertex_velocity = im.skinned[static_cast<std::size_t>(im.slots[s].skinned)].velocity.data();
+  }
   im.check("scene build");
   set_time(0.0);
 }
@@ -292,9 +297,8 @@ void Scene::add_skinned_slot(std::size_t a, std::size_t k) {
   rtcAttachGeometryByID(im.top, inst, slot);
   im.slots.push_back({static_cast<int>(a), static_cast<int>(k), inst, Eigen::AlignedBox3d(), static_cast<int>(im.skinned.size())});
   im.part_slot[a][k] = slot;
-  SlotMotion motion;
+  SlotMotion motion;  // vertex_velocity: set once every skin is in place (see build)
   motion.reflectivity = part.triangle_reflectivity.data();
-  motion.vertex_velocity = sk.velocity.data();
   motion.indices = part.indices.data();
   motion.actor_id = actors_[a].actor_id;
   motion.actor_index = static_cast<std::uint32_t>(a);
@@ -312,6 +316,14 @@ std::vector<Eigen::Vector3f> Scene::skinned_vertices(std::size_t k) const {
 }
 
 void Scene::set_time(double t_s) {
+  begin_time(t_s);
+  for (std::size_t k = 0; k < skin_count(); ++k) update_skin(k);
+  end_time();
+}
+
+std::size_t Scene::skin_count() const { return impl_->skinned.size(); }
+
+void Scene::begin_time(double t_s) {
   Impl& im = *impl_;
   time_s_ = t_s;
   for (std::size_t a = 0; a < actors_.size(); ++a) {
@@ -383,32 +395,40 @@ void Scene::set_time(double t_s) {
       slots_[slot].normal_matrix = M_inv.topLeftCorner<3, 3>().transpose();
     }
   }
+}
+
+void Scene::update_skin(std::size_t k) {
+  // Every vertex moved by its joints (M_j B_j), with its exact velocity; then a refit.
+  Impl& im = *impl_;
+  Impl::Skinned& sk = im.skinned[k];
+  const MeshPart& part = actors_[sk.actor].asset->parts[sk.part];
+  const SkinBinding& skin = *part.skin;
+  const std::vector<PartMotion>& motion = im.part_motion[sk.actor];
+  sk.joints.M.resize(skin.joint_parts.size());
+  sk.joints.M_dot.resize(skin.joint_parts.size());
+  for (std::size_t j = 0; j < skin.joint_parts.size(); ++j) {
+    const PartMotion& m = motion[static_cast<std::size_t>(skin.joint_parts[j])];
+    sk.joints.M[j] = (m.M * skin.inverse_bind[j]).topRows<3>();
+    sk.joints.M_dot[j] = (m.M_dot * skin.inverse_bind[j]).topRows<3>();
+  }
+  skin_vertices(skin, sk.joints, part.vertices, sk.vertices, sk.velocity.data());
+  sk.box.setEmpty();
+  for (std::size_t v = 0; v < part.vertices.size(); ++v) {
+    sk.box.extend(Eigen::Vector3d(sk.vertices[3 * v], sk.vertices[3 * v + 1], sk.vertices[3 * v + 2]));
+  }
+  rtcUpdateGeometryBuffer(sk.geometry, RTC_BUFFER_TYPE_VERTEX, 0);
+  rtcCommitGeometry(sk.geometry);
+  rtcCommitScene(sk.scene);
+  // The instance is unchanged, but the top level must take its new bounds.
+  rtcCommitGeometry(im.slots[im.part_slot[sk.actor][sk.part]].instance);
+}
+
+void Scene::end_time() {
+  Impl& im = *impl_;
   std::vector<Eigen::AlignedBox3d>& actor_box = im.actor_box;
   actor_box.resize(actors_.size());
   for (auto& box : actor_box) box.setEmpty();
-  // Skins: every vertex moved by its joints (M_j B_j), with its exact velocity; then a refit.
-  for (Impl::Skinned& sk : im.skinned) {
-    const MeshPart& part = actors_[sk.actor].asset->parts[sk.part];
-    const SkinBinding& skin = *part.skin;
-    const std::vector<PartMotion>& motion = im.part_motion[sk.actor];
-    im.joints.M.resize(skin.joint_parts.size());
-    im.joints.M_dot.resize(skin.joint_parts.size());
-    for (std::size_t j = 0; j < skin.joint_parts.size(); ++j) {
-      const PartMotion& m = motion[static_cast<std::size_t>(skin.joint_parts[j])];
-      im.joints.M[j] = (m.M * skin.inverse_bind[j]).topRows<3>();
-      im.joints.M_dot[j] = (m.M_dot * skin.inverse_bind[j]).topRows<3>();
-    }
-    skin_vertices(skin, im.joints, part.vertices, sk.vertices, sk.velocity.data());
-    Eigen::AlignedBox3d& box = actor_box[sk.actor];
-    for (std::size_t v = 0; v < part.vertices.size(); ++v) {
-      box.extend(Eigen::Vector3d(sk.vertices[3 * v], sk.vertices[3 * v + 1], sk.vertices[3 * v + 2]));
-    }
-    rtcUpdateGeometryBuffer(sk.geometry, RTC_BUFFER_TYPE_VERTEX, 0);
-    rtcCommitGeometry(sk.geometry);
-    rtcCommitScene(sk.scene);
-    // The instance is unchanged, but the top level must take its new bounds.
-    rtcCommitGeometry(im.slots[im.part_slot[sk.actor][sk.part]].instance);
-  }
+  for (const Impl::Skinned& sk : im.skinned) actor_box[sk.actor].extend(sk.box);
   for (std::size_t s = 1; s < im.slots.size(); ++s) {
     const Impl::Slot& slot = im.slots[s];
     if (slot.skinned >= 0) continue;

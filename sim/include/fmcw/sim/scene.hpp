@@ -98,8 +98,17 @@ class Scene {
   void build();
 
   /// Moves every actor to time t (pose, clips, joints, wheels, skins: each skinned part's
-  /// vertices are deformed and its BVH refit) and re-commits the top-level scene.
+  /// vertices are deformed and its BVH refit) and re-commits the top-level scene:
+  /// begin_time(t), update_skin(k) for every k, end_time().
   void set_time(double t_s);
+  /// set_time in three steps, so that several threads can share the skins. begin_time moves the
+  /// bodies and rigid parts (one thread); then update_skin(k) for each k < skin_count(), each
+  /// once, from any threads at once (each writes only its own skin); then end_time, once all
+  /// are done (one thread): instance transforms, bounds, the top-level commit.
+  void begin_time(double t_s);
+  std::size_t skin_count() const;
+  void update_skin(std::size_t k);
+  void end_time();
   double time() const { return time_s_; }
 
   /// Closest hits in one layer of rays from one origin along unit directions, within
