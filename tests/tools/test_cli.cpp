@@ -181,4 +181,30 @@ TEST_F(Cli, SimulateRejectsBadScenariosAndOccupiedFolders) {
   EXPECT_NE(r.output.find("exists and is not empty"), std::string::npos) << r.output;
 }
 
+TEST_F(Cli, ClipsThatDoNotPlayAreSaidOnceAndABadClipStopsTheRun) {
+  // Two statues of the skinned walker (animate: false) and one walking: one note for the file.
+  const std::string walker = std::string(FMCW_SOURCE_DIR) + "/assets/walker_skinned.gltf";
+  std::ofstream(p("s.yaml")) << "frames: 1\nactors:\n"
+                             << "  - {id: 1, class: pedestrian, mesh: " << walker << ", animate: false, trajectory: {type: static, pose: {x: 8}}}\n"
+                             << "  - {id: 2, class: pedestrian, mesh: " << walker << ", animate: false, trajectory: {type: static, pose: {x: 9}}}\n"
+                             << "  - {id: 3, class: pedestrian, mesh: " << walker << ", trajectory: {type: static, pose: {x: 10}}}\n";
+  CliResult r = run("simulate " + p("s.yaml") + " -o " + p("out"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string note = "fmcw: note: " + p("s.yaml") + ":3: actors[0]: mesh '" + walker +
+                           "' has clip(s) 'walk', 'idle', not played: the actor has animate: false";
+  EXPECT_NE(r.output.find(note), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("fmcw: note:"), r.output.rfind("fmcw: note:")) << "said once: " << r.output;
+  // The dataset records what plays.
+  EXPECT_NE(slurp(dir_ / "out" / "dataset.yaml").find("animation: {clip: walk, speed: 1, loop: true"), std::string::npos);
+  // An unknown clip: one line naming the file, the key and the clips there are; nothing written.
+  std::ofstream(p("bad.yaml")) << "frames: 1\nactors:\n  - {id: 1, class: pedestrian, mesh: " << walker
+                               << ", animation: {clip: run}, trajectory: {type: static}}\n";
+  r = run("simulate " + p("bad.yaml") + " -o " + p("bad"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("bad.yaml:3: actors[0]: animation.clip: mesh '" + walker + "' has no clip 'run'; its clips: 'walk', 'idle'"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "bad"));
+}
+
 }  // namespace
