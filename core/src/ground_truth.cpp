@@ -16,6 +16,7 @@ PixelGroundTruth PixelGroundTruth::make_empty(std::size_t n) {
   gt.vz_mps.assign(n, nan);
   gt.instance.assign(n, 0);
   gt.moving.assign(n, 0);
+  gt.semantic_class.assign(n, 0);
   return gt;
 }
 
@@ -30,6 +31,7 @@ void PixelGroundTruth::validate(std::size_t n) const {
   check(vz_mps.size(), "gt_vz");
   check(instance.size(), "instance");
   check(moving.size(), "moving");
+  if (!semantic_class.empty()) check(semantic_class.size(), "class");
 }
 
 }  // namespace fmcw::core

@@ -309,7 +309,7 @@ void write_pcd(const std::string& path, const PcdCloud& cloud) {
 
 const std::vector<std::string>& known_frame_fields() {
   static const std::vector<std::string> names = {"x", "y", "z", "range", "v", "intensity", "t", "gt_range", "gt_v",
-                                                 "gt_vx", "gt_vy", "gt_vz", "instance", "moving", "label"};
+                                                 "gt_vx", "gt_vy", "gt_vz", "instance", "moving", "class", "label"};
   return names;
 }
 
@@ -452,6 +452,16 @@ core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source) {
       gt.instance[i] = static_cast<std::uint32_t>(inst[i]);
       gt.moving[i] = static_cast<std::uint8_t>(mov[i]);
     }
+    // The semantic class: datasets written before it have none.
+    if (const PcdField* cls = cloud.find("class")) {
+      for (std::size_t i = 0; i < scan.size(); ++i) {
+        FMCW_CHECK_ARG(cls->values[i] >= 0 && cls->values[i] <= 65535.0, source, ": point ", i, " has class ", cls->values[i],
+                       " out of range (0..65535)");
+        gt.semantic_class[i] = static_cast<std::uint16_t>(cls->values[i]);
+      }
+    } else {
+      gt.semantic_class.clear();
+    }
     frame.truth = std::move(gt);
   }
   return frame;
@@ -505,6 +515,11 @@ PcdCloud pcd_from_frame(const core::Frame& frame, bool with_truth) {
     }
     cloud.fields.push_back(std::move(inst));
     cloud.fields.push_back(std::move(mov));
+    if (!gt.semantic_class.empty()) {
+      PcdField cls{"class", 'U', 2, std::vector<double>(n)};
+      for (std::size_t i = 0; i < n; ++i) cls.values[i] = gt.semantic_class[i];
+      cloud.fields.push_back(std::move(cls));
+    }
   }
   return cloud;
 }

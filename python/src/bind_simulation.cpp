@@ -28,6 +28,9 @@ py::object pixel_truth(const core::Frame& f) {
   d["velocity"] = velocity;
   d["instance"] = to_image(t.instance, rows, cols);
   d["moving"] = to_image<std::uint8_t, bool>(t.moving, rows, cols);
+  // The semantic class id per pixel (the dataset's class table maps ids to names); absent in
+  // datasets written before classes were.
+  if (!t.semantic_class.empty()) d["class"] = to_image(t.semantic_class, rows, cols);
   return d;
 }
 

@@ -56,13 +56,16 @@ struct Reader {
   void add_mesh(const aiMesh* mesh, MeshPart& part, int self, const Eigen::Affine3d& T_asset_part) {
     if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return;
     float reflectivity = fallback;
+    std::string material;
     if (mesh->mMaterialIndex < scene->mNumMaterials) {
       aiString name;
       if (scene->mMaterials[mesh->mMaterialIndex]->Get(AI_MATKEY_NAME, name) == AI_SUCCESS) {
-        const auto it = table.find(name.C_Str());
+        material = name.C_Str();
+        const auto it = table.find(material);
         if (it != table.end()) reflectivity = it->second;
       }
     }
+    const std::uint16_t material_index = asset.material_index(material);
     const auto base = static_cast<std::uint32_t>(part.vertices.size());
     if (mesh->mNumBones > 0) boned[static_cast<std::size_t>(self)].push_back({mesh, base});
     for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
@@ -75,6 +78,7 @@ struct Reader {
       if (face.mNumIndices != 3) continue;
       for (int c = 0; c < 3; ++c) part.indices.push_back(base + face.mIndices[c]);
       part.triangle_reflectivity.push_back(reflectivity);
+      part.triangle_material.push_back(material_index);
     }
   }
 

@@ -88,7 +88,7 @@ bool merge_sub_returns(std::vector<SubReturn>& returns, const BeamDivergencePara
     if (best == n || energy[i] > energy[best]) best = i;  // ties: the nearer peak
   }
   if (best == n || !(energy[best] > 0.0)) return false;
-  merged = MergedReturn{0.0, 0.0, Eigen::Vector3d::Zero(), energy[best], 0, merged.peaks};
+  merged = MergedReturn{0.0, 0.0, Eigen::Vector3d::Zero(), energy[best], 0, 0, merged.peaks};
   double strongest = -1.0;
   for (std::size_t i = 0; i < n; ++i) {
     if (root(i) != best) continue;
@@ -99,6 +99,7 @@ bool merge_sub_returns(std::vector<SubReturn>& returns, const BeamDivergencePara
     if (returns[i].energy > strongest) {
       strongest = returns[i].energy;
       merged.instance = returns[i].instance;
+      merged.semantic_class = returns[i].semantic_class;
     }
   }
   return true;

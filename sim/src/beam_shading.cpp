@@ -15,6 +15,7 @@ struct TrueReturn {
   bool moving;
   float intensity;
   std::uint32_t instance;
+  std::uint16_t semantic_class;
 };
 
 // The loops below copy what they read into locals before calling this: a byte store (valid,
@@ -39,6 +40,7 @@ inline void report(const PixelArrays& out, const MeasurementModel& measurement, 
   out.gt_vz[i] = static_cast<float>(t.velocity_rig_mps.z());
   out.gt_instance[i] = t.instance;
   out.gt_moving[i] = t.moving ? 1 : 0;
+  out.gt_class[i] = t.semantic_class;
 }
 
 }  // namespace
@@ -57,7 +59,8 @@ PixelArrays::PixelArrays(core::Scan& scan, core::PixelGroundTruth& gt)
       gt_vy(gt.vy_mps.data()),
       gt_vz(gt.vz_mps.data()),
       gt_instance(gt.instance.data()),
-      gt_moving(gt.moving.data()) {}
+      gt_moving(gt.moving.data()),
+      gt_class(gt.semantic_class.data()) {}
 
 const double* shade_beams(const ShadingContext& ctx, const HeadState& head, std::size_t row, int c0, int c1,
                           const RayHit* hits, const double* normals, int* actor_pixels) {
@@ -76,7 +79,7 @@ const double* shade_beams(const ShadingContext& ctx, const HeadState& head, std:
       continue;
     }
     const Eigen::Vector3d e = directions_world[i].cast<double>();
-    TrueReturn t{ray.distance_m, 0.0, Eigen::Vector3d::Zero(), false, 0.0f, 0};
+    TrueReturn t{ray.distance_m, 0.0, Eigen::Vector3d::Zero(), false, 0.0f, 0, 0};
     double cos_incidence = 0.0;
     float reflectivity = 0.0f;
     if (ray.slot == 0) {
@@ -84,6 +87,7 @@ const double* shade_beams(const ShadingContext& ctx, const HeadState& head, std:
       t.doppler_mps = -e.dot(h.origin_velocity_world);
       cos_incidence = e.dot(scene.static_normal(ray.primitive).cast<double>());
       reflectivity = scene.static_reflectivity(ray.primitive);
+      t.semantic_class = scene.static_class(ray.primitive);
     } else {
       const SlotMotion& part = scene.slot(ray.slot);
       const Eigen::Vector3d p = h.origin_world + t.range_m * e;
@@ -95,6 +99,7 @@ const double* shade_beams(const ShadingContext& ctx, const HeadState& head, std:
       cos_incidence = e.dot((part.normal_matrix * ray.normal_object.cast<double>()).normalized());
       reflectivity = part.reflectivity[ray.primitive];
       t.instance = part.actor_id;
+      t.semantic_class = part.class_id;
       t.velocity_rig_mps = R_world_rig.transpose() * v;
       t.moving = v.squaredNorm() > moving_threshold_sq;
       ++actor_pixels[part.actor_index];
@@ -121,7 +126,7 @@ void shade_sub_ray_beams(const ShadingContext& ctx, const SubRayShading& sub_ray
       const SurfaceSample s = ctx.scene.resolve(ray, head.origin_world + ray.distance_m * d);
       returns.push_back({ray.distance_m, d.dot(s.velocity_world_mps - head.origin_velocity_world), s.velocity_world_mps,
                          sub_rays.pattern.weights[j] * return_intensity(s.reflectivity, d.dot(s.normal_world), ray.distance_m),
-                         s.actor_id});
+                         s.actor_id, s.semantic_class});
     }
     MergedReturn merged;
     if (!merge_sub_returns(returns, sub_rays.divergence, merged)) {
@@ -133,7 +138,8 @@ void shade_sub_ray_beams(const ShadingContext& ctx, const SubRayShading& sub_ray
                        ctx.R_world_rig.transpose() * merged.velocity_world_mps,
                        merged.velocity_world_mps.squaredNorm() > ctx.moving_threshold_sq,
                        static_cast<float>(merged.energy),
-                       merged.instance};
+                       merged.instance,
+                       merged.semantic_class};
     if (t.instance != 0) {
       const auto it = std::lower_bound(sub_rays.actor_ids.begin(), sub_rays.actor_ids.end(),
                                        std::make_pair(t.instance, std::size_t{0}));

@@ -30,6 +30,7 @@ struct PixelArrays {
     gt_range[i] = gt_doppler[i] = gt_vx[i] = gt_vy[i] = gt_vz[i] = nan;
     gt_instance[i] = 0;
     gt_moving[i] = 0;
+    gt_class[i] = 0;
   }
 
   float* x;
@@ -46,6 +47,7 @@ struct PixelArrays {
   float* gt_vz;
   std::uint32_t* gt_instance;
   std::uint8_t* gt_moving;
+  std::uint16_t* gt_class;
 };
 
 /// What stays fixed while the beams of one instant are shaded.

@@ -51,7 +51,11 @@ std::string DatasetHeader::to_yaml() const {
        << "frames_written: " << frames_written << "\n"
        << "frame_files: frames/%06d.pcd\n"
        << "fields: [x, y, z, range, v, intensity" << (motion_distortion ? ", t" : "")
-       << ", gt_range, gt_v, gt_vx, gt_vy, gt_vz, instance, moving]\n";
+       << ", gt_range, gt_v, gt_vx, gt_vy, gt_vz, instance, moving, class]\n";
+  if (!classes.empty()) {
+    yaml << "classes:  # semantic class ids of the field class (SemanticKITTI's where it has the class)\n";
+    for (const auto& [id, name] : classes) yaml << "  - {id: " << id << ", name: " << name << "}\n";
+  }
   if (shard) {
     yaml << "shard: {index: " << shard->index << ", count: " << shard->count << ", first_frame: " << shard->first_frame
          << ", end_frame: " << shard->end_frame << "}\n";
@@ -90,6 +94,13 @@ DatasetHeader DatasetHeader::read(const std::string& file) {
     }
     if (h.frames_written > shard.frames()) written.fail("exceeds the shard's " + std::to_string(shard.frames()) + " frames");
     h.shard = shard;
+  }
+  if (doc.node()["classes"].IsDefined()) {
+    for (const YamlValue& c : key(doc, "classes").items()) {
+      const std::uint64_t id = key(c, "id").as_uint64();
+      if (id > 65535) c.fail("class id " + std::to_string(id) + " is beyond 65535");
+      h.classes.emplace_back(static_cast<std::uint16_t>(id), key(c, "name").as_string());
+    }
   }
   const YamlValue scenario = key(doc, "scenario");
   if (!scenario.is_map()) scenario.fail("expected the resolved scenario as a map");

@@ -163,6 +163,7 @@ DatasetSummary write_dataset(const LoadedScenario& loaded_in, const DatasetOptio
   header.motion_distortion = s.motion_distortion;
   if (options.shard_count > 1) header.shard = shard;
   header.scenario_yaml = whole_lines(scenario_to_yaml(s));
+  for (const core::SemanticClass& c : s.classes.classes()) header.classes.emplace_back(c.id, c.name);
 
   // The scene first: what fails there (Embree, memory) fails before any file is written.
   SimulationSetup setup = build_simulation(loaded, options.num_threads);

@@ -20,6 +20,15 @@ int MeshAsset::find_part(const std::string& name) const {
   return -1;
 }
 
+std::uint16_t MeshAsset::material_index(const std::string& name) {
+  for (std::size_t k = 0; k < materials.size(); ++k) {
+    if (materials[k] == name) return static_cast<std::uint16_t>(k);
+  }
+  if (materials.size() >= 0xFFFF) throw std::invalid_argument("mesh '" + path + "' has more than 65535 materials");
+  materials.push_back(name);
+  return static_cast<std::uint16_t>(materials.size() - 1);
+}
+
 int MeshAsset::find_clip(const std::string& name_or_index) const {
   for (std::size_t k = 0; k < clips.size(); ++k) {
     if (clips[k].name == name_or_index) return static_cast<int>(k);

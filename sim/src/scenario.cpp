@@ -153,6 +153,65 @@ MeasurementParams read_measurement(const YamlValue& value) {
   return p;
 }
 
+std::string unknown_class(const Scenario& s, const std::string& name) {
+  return "unknown class '" + name + "' (add it under classes: in a class table; known: " + s.classes.names() + ")";
+}
+
+// A class table: classes of the scenario's own, and the classes of mesh files' triangles.
+//   classes: {forklift: 120}
+//   meshes: {road_segment.gltf: {class: road, parts: {curb: sidewalk}}}
+void read_class_table(const std::string& file, Scenario& s) {
+  const YamlValue root = YamlValue::load_file(file);
+  YamlMap m(root);
+  if (m.has("classes")) {
+    const YamlValue classes = m.at("classes");
+    YamlMap cm(classes);
+    for (const auto& kv : classes.node()) {
+      const std::string name = kv.first.as<std::string>();
+      const YamlValue id = cm.at(name);
+      try {
+        s.classes.add(name, id.as_uint64());
+      } catch (const std::invalid_argument& e) {
+        id.fail(e.what());
+      }
+    }
+    cm.finish();
+  } else {
+    m.get("classes", 0.0);
+  }
+  if (m.has("meshes")) {
+    const YamlValue meshes = m.at("meshes");
+    YamlMap mm(meshes);
+    for (const auto& kv : meshes.node()) {
+      const std::string mesh = kv.first.as<std::string>();
+      const YamlValue entry = mm.at(mesh);
+      YamlMap em(entry);
+      MeshClasses mc;
+      mc.class_name = em.get("class", std::string());
+      if (!mc.class_name.empty() && !s.classes.find(mc.class_name)) em.at("class").fail(unknown_class(s, mc.class_name));
+      if (em.has("parts")) {
+        const YamlValue parts = em.at("parts");
+        YamlMap pm(parts);
+        for (const auto& p : parts.node()) {
+          const std::string part = p.first.as<std::string>();
+          const YamlValue c = pm.at(part);
+          if (!s.classes.find(c.as_string())) c.fail(unknown_class(s, c.as_string()));
+          mc.parts[part] = c.as_string();
+        }
+        pm.finish();
+      } else {
+        em.get("parts", 0.0);
+      }
+      em.finish();
+      s.mesh_classes[mesh] = mc;
+    }
+    mm.finish();
+  } else {
+    m.get("meshes", 0.0);
+  }
+  m.finish();
+}
+
 ReflectivityTable read_materials(const std::string& file) {
   const YamlValue root = YamlValue::load_file(file);
   YamlMap m(root);
@@ -265,6 +324,7 @@ ObjectSpec read_object(const YamlValue& value, bool is_actor, const std::string&
     }
   } else {
     o.name = m.get("name", std::string("static"));
+    o.semantic_class = m.get("class", std::string());
     o.trajectory.type = "static";
     o.trajectory.pose = m.has("pose") ? read_pose(m.at("pose")) : Eigen::Isometry3d::Identity();
     if (!m.has("pose")) m.get("pose", 0.0);
@@ -425,6 +485,14 @@ LoadedScenario load_scenario_unchecked(const std::string& path) {
     m.get("materials", 0.0);
   }
   s.default_reflectivity = static_cast<float>(m.get("default_reflectivity", 0.3));
+  if (m.has("classes")) {
+    const YamlValue c = m.at("classes");
+    s.classes_file = resolve_path(path, c.as_string());
+    if (!is_existing_file(s.classes_file)) c.fail("class table '" + s.classes_file + "' does not exist");
+    read_class_table(s.classes_file, s);
+  } else {
+    m.get("classes", 0.0);
+  }
   if (m.has("ground")) {
     const YamlValue g = m.at("ground");
     YamlMap gm(g);
@@ -432,6 +500,8 @@ LoadedScenario load_scenario_unchecked(const std::string& path) {
     s.ground_z_m = gm.get("z_m", 0.0);
     s.ground_half_size_m = gm.get("half_size_m", 300.0);
     s.ground_reflectivity = static_cast<float>(gm.get("reflectivity", 0.1));
+    s.ground_class = gm.get("class", s.ground_class);
+    if (!s.classes.find(s.ground_class)) gm.at("class").fail(unknown_class(s, s.ground_class));
     if (!(s.ground_half_size_m > 0.0)) gm.at("half_size_m").fail("must be > 0");
     gm.finish();
   } else {
@@ -478,6 +548,12 @@ LoadedScenario load_scenario_unchecked(const std::string& path) {
         node.remove("repeat");
       }
       ObjectSpec base = read_object(YamlValue(node, item.file(), item.path()), false, path);
+      if (base.semantic_class.empty()) {
+        const auto table = s.mesh_classes.find(fs::path(base.mesh_path).filename().string());
+        base.semantic_class = table != s.mesh_classes.end() && !table->second.class_name.empty() ? table->second.class_name
+                                                                                                  : "other_structure";
+      }
+      if (!s.classes.find(base.semantic_class)) item.fail("class: " + unknown_class(s, base.semantic_class));
       Eigen::Isometry3d offset = Eigen::Isometry3d::Identity();
       for (int k = 0; k < count; ++k) {
         ObjectSpec copy = base;
@@ -496,6 +572,8 @@ LoadedScenario load_scenario_unchecked(const std::string& path) {
     for (const auto& item : m.at("actors").items()) {
       s.actors.push_back(read_object(item, true, path));
       ObjectSpec& a = s.actors.back();
+      a.semantic_class = a.class_name;
+      if (!s.classes.find(a.class_name)) item.fail("class: " + unknown_class(s, a.class_name));
       if (!ids.emplace(a.id, item.path()).second) {
         item.fail("actor id " + std::to_string(a.id) + " is already used by " + ids[a.id]);
       }
@@ -549,9 +627,11 @@ std::string scenario_to_yaml(const Scenario& s) {
   out << YAML::Key << "moving_threshold_mps" << YAML::Value << s.moving_threshold_mps;
   out << YAML::Key << "materials" << YAML::Value << s.materials_file;
   out << YAML::Key << "default_reflectivity" << YAML::Value << s.default_reflectivity;
+  if (!s.classes_file.empty()) out << YAML::Key << "classes" << YAML::Value << s.classes_file;
   out << YAML::Key << "ground" << YAML::Value << YAML::BeginMap << YAML::Key << "enabled" << YAML::Value << s.ground
       << YAML::Key << "z_m" << YAML::Value << s.ground_z_m << YAML::Key << "half_size_m" << YAML::Value
-      << s.ground_half_size_m << YAML::Key << "reflectivity" << YAML::Value << s.ground_reflectivity << YAML::EndMap;
+      << s.ground_half_size_m << YAML::Key << "reflectivity" << YAML::Value << s.ground_reflectivity << YAML::Key
+      << "class" << YAML::Value << s.ground_class << YAML::EndMap;
   out << YAML::Key << "ego" << YAML::Value << YAML::BeginMap << YAML::Key << "trajectory" << YAML::Value;
   emit_trajectory(out, s.ego);
   out << YAML::EndMap;
@@ -580,7 +660,7 @@ std::string scenario_to_yaml(const Scenario& s) {
         out << YAML::Key << "trajectory" << YAML::Value;
         emit_trajectory(out, o.trajectory);
       } else {
-        out << YAML::Key << "pose" << YAML::Value;
+        out << YAML::Key << "class" << YAML::Value << o.semantic_class << YAML::Key << "pose" << YAML::Value;
         emit_pose(out, o.trajectory.pose);
       }
       out << YAML::EndMap;
@@ -597,7 +677,8 @@ SimulationSetup build_simulation(const LoadedScenario& loaded, int num_threads) 
   const Scenario& s = loaded.scenario;
   SimulationSetup setup;
   setup.scene = std::make_shared<Scene>();
-  if (s.ground) setup.scene->add_ground_plane(s.ground_z_m, s.ground_half_size_m, s.ground_reflectivity);
+  const auto class_id = [&](const std::string& name) { return *s.classes.find(name); };
+  if (s.ground) setup.scene->add_ground_plane(s.ground_z_m, s.ground_half_size_m, s.ground_reflectivity, class_id(s.ground_class));
   for (std::size_t k = 0; k < s.statics.size(); ++k) {
     SceneObject o;
     o.name = s.statics[k].name;
@@ -605,6 +686,11 @@ SimulationSetup build_simulation(const LoadedScenario& loaded, int num_threads) 
     o.asset = loaded.static_meshes[k];
     o.T_body_asset = s.statics[k].T_body_asset;
     o.trajectory = s.statics[k].trajectory.make();
+    o.class_id = class_id(s.statics[k].semantic_class);
+    const auto table = s.mesh_classes.find(fs::path(s.statics[k].mesh_path).filename().string());
+    if (table != s.mesh_classes.end()) {
+      for (const auto& [part, name] : table->second.parts) o.part_classes[part] = class_id(name);
+    }
     setup.scene->add(std::move(o));
   }
   for (std::size_t k = 0; k < s.actors.size(); ++k) {
@@ -618,6 +704,7 @@ SimulationSetup build_simulation(const LoadedScenario& loaded, int num_threads) 
     o.trajectory = spec.trajectory.make();
     o.clip = spec.animation.clip_index;
     o.playback = spec.animation.playback;
+    o.class_id = class_id(spec.semantic_class);
     if (spec.animate) {
       const MeshAsset& asset = *o.asset;
       for (std::size_t p = 0; p < asset.parts.size(); ++p) {

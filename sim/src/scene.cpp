@@ -111,7 +111,7 @@ Scene::~Scene() {
   if (impl_->device) rtcReleaseDevice(impl_->device);
 }
 
-void Scene::add_ground_plane(double z_m, double half_size_m, float reflectivity) {
+void Scene::add_ground_plane(double z_m, double half_size_m, float reflectivity, std::uint16_t class_id) {
   const auto base = static_cast<std::uint32_t>(impl_->static_vertices.size() / 3);
   const double h = half_size_m;
   const double corners[4][2] = {{-h, -h}, {h, -h}, {h, h}, {-h, h}};
@@ -121,6 +121,7 @@ void Scene::add_ground_plane(double z_m, double half_size_m, float reflectivity)
   }
   for (const std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) impl_->static_indices.push_back(base + i);
   static_reflectivity_.insert(static_reflectivity_.end(), 2, reflectivity);
+  static_class_.insert(static_class_.end(), 2, class_id);
 }
 
 void Scene::add(SceneObject object) {
@@ -158,6 +159,18 @@ void Scene::add(SceneObject object) {
     for (const auto i : part.indices) impl_->static_indices.push_back(base + i);
     static_reflectivity_.insert(static_reflectivity_.end(), part.triangle_reflectivity.begin(),
                                 part.triangle_reflectivity.end());
+    // The part's class by its node name, else each triangle's by its material's name.
+    const auto by_node = object.part_classes.find(part.name);
+    for (std::size_t t = 0; t < part.triangle_count(); ++t) {
+      std::uint16_t c = object.class_id;
+      if (by_node != object.part_classes.end()) {
+        c = by_node->second;
+      } else if (t < part.triangle_material.size() && part.triangle_material[t] < asset.materials.size()) {
+        const auto by_material = object.part_classes.find(asset.materials[part.triangle_material[t]]);
+        if (by_material != object.part_classes.end()) c = by_material->second;
+      }
+      static_class_.push_back(c);
+    }
   }
 }
 
@@ -254,6 +267,7 @@ void Scene::build() {
       SlotMotion motion;
       motion.reflectivity = part.triangle_reflectivity.data();
       motion.actor_id = actors_[a].actor_id;
+      motion.class_id = actors_[a].class_id;
       motion.actor_index = static_cast<std::uint32_t>(a);
       slots_.push_back(motion);
     }
@@ -301,6 +315,7 @@ void Scene::add_skinned_slot(std::size_t a, std::size_t k) {
   motion.reflectivity = part.triangle_reflectivity.data();
   motion.indices = part.indices.data();
   motion.actor_id = actors_[a].actor_id;
+  motion.class_id = actors_[a].class_id;
   motion.actor_index = static_cast<std::uint32_t>(a);
   slots_.push_back(motion);
   im.skinned.push_back(std::move(sk));

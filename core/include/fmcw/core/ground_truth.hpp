@@ -17,6 +17,9 @@ struct PixelGroundTruth {
   std::vector<float> vx_mps, vy_mps, vz_mps;  ///< true surface velocity [m/s] (world motion, rig axes)
   std::vector<std::uint32_t> instance;     ///< 0 = static world, else actor id
   std::vector<std::uint8_t> moving;        ///< 1 where the surface's absolute speed exceeds the threshold
+  /// Semantic class id of the surface hit (semantic_classes.hpp; 0 where no return). Empty for
+  /// a dataset written before classes were: then the only field that may be missing.
+  std::vector<std::uint16_t> semantic_class;
 
   static PixelGroundTruth make_empty(std::size_t n);
   /// Throws std::invalid_argument when a field does not hold n values.

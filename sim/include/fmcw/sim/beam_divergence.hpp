@@ -39,6 +39,7 @@ struct SubReturn {
   Eigen::Vector3d velocity_world_mps;
   double energy;                      ///< beam weight x return intensity
   std::uint32_t instance;
+  std::uint16_t semantic_class = 0;
 };
 
 /// The peak an FMCW receiver reports for one beam: sub-returns are grouped (single linkage)
@@ -51,6 +52,7 @@ struct MergedReturn {
   Eigen::Vector3d velocity_world_mps = Eigen::Vector3d::Zero();
   double energy = 0.0;          ///< of the winning peak
   std::uint32_t instance = 0;
+  std::uint16_t semantic_class = 0;  ///< of its strongest sub-return, as the instance
   int peaks = 0;                ///< how many separate peaks the beam saw
 };
 bool merge_sub_returns(std::vector<SubReturn>& returns, const BeamDivergenceParams& params, MergedReturn& merged);

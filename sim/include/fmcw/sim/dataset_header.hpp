@@ -3,8 +3,11 @@
 // one reader, so that a resumed run, a shard and a merge of shards all write the same bytes as
 // a single uninterrupted run.
 
+#include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace fmcw::sim {
 
@@ -34,6 +37,9 @@ struct DatasetHeader {
   int frames_written = 0;
   bool motion_distortion = false;  ///< frames carry the per-pixel time field t
   std::optional<ShardInfo> shard;  ///< absent for a whole dataset
+  /// The class table of the field `class`: (id, name) pairs. Empty in datasets written before
+  /// classes were.
+  std::vector<std::pair<std::uint16_t, std::string>> classes;
   /// The resolved scenario as YAML (scenario_to_yaml), kept verbatim.
   std::string scenario_yaml;
 

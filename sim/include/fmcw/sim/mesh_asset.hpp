@@ -26,6 +26,7 @@ struct MeshPart {
   std::vector<Eigen::Vector3f> vertices;                      ///< part frame [m]; mesh space when skinned
   std::vector<std::uint32_t> indices;                         ///< 3 per triangle
   std::vector<float> triangle_reflectivity;                   ///< one per triangle
+  std::vector<std::uint16_t> triangle_material;               ///< one per triangle: index into MeshAsset::materials
   /// Set: the vertices are skinned by these joints, and the part's own transform is not applied.
   std::shared_ptr<const SkinBinding> skin;
   std::size_t triangle_count() const { return indices.size() / 3; }
@@ -36,11 +37,14 @@ struct MeshAsset {
   std::vector<MeshPart> parts;  ///< parents precede children
   Eigen::AlignedBox3d rest_bounds;  ///< of all vertices at rest (skinned ones at their rest pose), asset frame
   std::vector<AnimationClip> clips;  ///< in the file's order
+  std::vector<std::string> materials;  ///< material names, as triangle_material indexes them
   /// What the file holds that the simulator does not use (morph targets, point primitives, ...),
   /// one line each, for the caller to say once.
   std::vector<std::string> notices;
   std::size_t triangle_count() const;
   int find_part(const std::string& name) const;  ///< -1 when absent
+  /// The index of a material name in `materials`, added when new.
+  std::uint16_t material_index(const std::string& name);
   /// A clip by name, or by its index written as a number; -1 when there is none such.
   int find_clip(const std::string& name_or_index) const;
   /// "walk", "idle" (for messages); "none" when the file has no clip.

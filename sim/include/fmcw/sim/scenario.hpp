@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "fmcw/core/semantic_classes.hpp"
 #include "fmcw/sim/lidar_simulator.hpp"
 #include "fmcw/sim/mesh_asset.hpp"
 #include "fmcw/sim/scene.hpp"
@@ -34,6 +35,12 @@ struct AnimationSpec {
   ClipPlayback playback;
 };
 
+/// The classes of a mesh file's triangles (a class table's `meshes:` entry).
+struct MeshClasses {
+  std::string class_name;                     ///< of every triangle not in parts; empty: none given
+  std::map<std::string, std::string> parts;   ///< node or material name -> class
+};
+
 struct ObjectSpec {
   std::string name;
   std::string class_name = "static";
@@ -42,6 +49,9 @@ struct ObjectSpec {
   std::string mesh_path;          ///< resolved against the scenario's folder
   Eigen::Affine3d T_body_asset = Eigen::Affine3d::Identity();  ///< mesh_transform
   TrajectorySpec trajectory;
+  /// Static objects: the class of their triangles (the entry's `class:`, else the class table's
+  /// for the mesh file, else other_structure); actors: class_name.
+  std::string semantic_class;
   bool animate = true;  ///< play the mesh's clip; spin parts named wheel*, walk pedestrians
   AnimationSpec animation;
 };
@@ -64,6 +74,10 @@ struct Scenario {
   std::string materials_file;
   ReflectivityTable materials;
   float default_reflectivity = 0.3f;
+  std::string classes_file;  ///< the `classes:` table, resolved; empty: the built-in classes only
+  core::ClassTable classes = core::ClassTable::builtin();
+  std::map<std::string, MeshClasses> mesh_classes;  ///< by mesh file name (without its folder)
+  std::string ground_class = "ground";
   bool ground = true;
   double ground_z_m = 0.0;
   double ground_half_size_m = 300.0;

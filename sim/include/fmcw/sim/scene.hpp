@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -32,6 +33,10 @@ struct SceneObject {
   /// part the clip animates follows the clip, not a procedural joint or wheel rule.
   int clip = -1;
   ClipPlayback playback;
+  /// Semantic class of its triangles (semantic_classes.hpp); for the static world, parts whose
+  /// node name, else material name, is in part_classes take that class instead.
+  std::uint16_t class_id = 0;
+  std::map<std::string, std::uint16_t> part_classes;
 };
 
 /// Where a ray hit, before the hit is resolved into a surface sample.
@@ -54,6 +59,7 @@ struct SlotMotion {
   const Eigen::Vector3d* vertex_velocity = nullptr;
   const std::uint32_t* indices = nullptr;
   std::uint32_t actor_id = 0;
+  std::uint16_t class_id = 0;
   std::uint32_t actor_index = 0;  ///< into actors()
 
   /// Velocity (world) of the surface point hit at p (world): the rigid field of the part, or for
@@ -81,6 +87,7 @@ struct SurfaceSample {
   Eigen::Vector3d normal_world = Eigen::Vector3d::UnitZ();  ///< unit
   float reflectivity = 0.0f;
   std::uint32_t actor_id = 0;
+  std::uint16_t semantic_class = 0;
 };
 
 class Scene {
@@ -91,7 +98,7 @@ class Scene {
   Scene& operator=(const Scene&) = delete;
 
   /// A horizontal square of the static world, half_size_m around the origin, at height z_m.
-  void add_ground_plane(double z_m, double half_size_m, float reflectivity);
+  void add_ground_plane(double z_m, double half_size_m, float reflectivity, std::uint16_t class_id = 0);
   /// Static objects (actor_id 0) are baked at the pose of their trajectory at t = 0.
   void add(SceneObject object);
   /// Builds every BVH. Throws std::runtime_error on an Embree error.
@@ -127,6 +134,7 @@ class Scene {
     if (hit.slot == 0) {
       s.normal_world = static_normals_[hit.primitive].cast<double>();
       s.reflectivity = static_reflectivity_[hit.primitive];
+      s.semantic_class = static_class_[hit.primitive];
       return s;
     }
     const SlotMotion& m = slots_[hit.slot];
@@ -135,11 +143,13 @@ class Scene {
     s.normal_world = (m.normal_matrix * hit.normal_object.cast<double>()).normalized();
     s.reflectivity = m.reflectivity[hit.primitive];
     s.actor_id = m.actor_id;
+    s.semantic_class = m.class_id;
     return s;
   }
   /// Unit normal and reflectivity of static triangle k (hits on slot 0).
   const Eigen::Vector3f& static_normal(std::uint32_t k) const { return static_normals_[k]; }
   float static_reflectivity(std::uint32_t k) const { return static_reflectivity_[k]; }
+  std::uint16_t static_class(std::uint32_t k) const { return static_class_[k]; }
   /// Motion of instance slot s >= 1 at the current time.
   const SlotMotion& slot(std::uint32_t s) const { return slots_[s]; }
 
@@ -161,6 +171,7 @@ class Scene {
   std::vector<SceneObject> actors_;
   std::vector<MotionState> actor_states_;
   std::vector<float> static_reflectivity_;
+  std::vector<std::uint16_t> static_class_;      // per static triangle
   std::vector<Eigen::Vector3f> static_normals_;  // unit, per static triangle
   std::vector<SlotMotion> slots_;                // 0: the static world (unused), then actor parts
   std::vector<BoundingSphere> actor_bounds_;

@@ -1,0 +1,58 @@
+#include "fmcw/core/semantic_classes.hpp"
+
+#include <stdexcept>
+
+namespace fmcw::core {
+
+ClassTable ClassTable::builtin() {
+  // SemanticKITTI's label ids (semantic-kitti.yaml), and its moving variants.
+  ClassTable t;
+  t.classes_ = {
+      {0, "unlabeled", 0},         {10, "car", 252},           {11, "bicycle", 0},        {13, "bus", 257},
+      {15, "motorcycle", 0},       {18, "truck", 258},         {20, "other_vehicle", 259}, {30, "pedestrian", 254},
+      {31, "cyclist", 253},        {32, "motorcyclist", 255},  {40, "road", 0},            {44, "parking", 0},
+      {48, "sidewalk", 0},         {49, "ground", 0},          {50, "building", 0},        {51, "fence", 0},
+      {52, "other_structure", 0},  {60, "lane_marking", 0},    {70, "vegetation", 0},      {71, "trunk", 0},
+      {72, "terrain", 0},          {80, "pole", 0},            {81, "traffic_sign", 0},    {99, "other_object", 0},
+      {100, "van", 259},
+  };
+  return t;
+}
+
+void ClassTable::add(const std::string& name, std::uint64_t id) {
+  if (id == 0 || id > 65535) {
+    throw std::invalid_argument("class '" + name + "': id " + std::to_string(id) + " is not in [1, 65535]");
+  }
+  for (const SemanticClass& c : classes_) {
+    if (c.name == name) throw std::invalid_argument("class '" + name + "' is defined already (id " + std::to_string(c.id) + ")");
+    if (c.id == id) {
+      throw std::invalid_argument("class '" + name + "': id " + std::to_string(id) + " is taken by class '" + c.name + "'");
+    }
+  }
+  classes_.push_back({static_cast<std::uint16_t>(id), name, 0});
+}
+
+std::optional<std::uint16_t> ClassTable::find(const std::string& name) const {
+  for (const SemanticClass& c : classes_) {
+    if (c.name == name) return c.id;
+  }
+  return std::nullopt;
+}
+
+const SemanticClass* ClassTable::get(std::uint16_t id) const {
+  for (const SemanticClass& c : classes_) {
+    if (c.id == id) return &c;
+  }
+  return nullptr;
+}
+
+std::string ClassTable::names() const {
+  std::string out;
+  for (const SemanticClass& c : classes_) {
+    if (c.id == kUnlabeledClass) continue;
+    out += (out.empty() ? "" : ", ") + c.name;
+  }
+  return out;
+}
+
+}  // namespace fmcw::core
