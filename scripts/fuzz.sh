@@ -3,13 +3,14 @@
 # time from the committed seed corpus (tests/fuzz/corpus/<target>). Inputs the fuzzer finds go
 # to build-fuzz/corpus/<target>, crashes to build-fuzz/artifacts/<target>/; a crash fails the
 # script and prints the command that replays it.
-#   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]      defaults: 60, pcd scenario
+#   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]      defaults: 60, pcd scenario mesh
+# Each target's dictionary is tests/fuzz/<target>.dict, but mesh's is tests/fuzz/gltf.dict.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(pcd scenario)
+[ ${#targets[@]} -eq 0 ] && targets=(pcd scenario mesh)
 build=${FMCW_FUZZ_BUILD:-build-fuzz}
 
 bash scripts/setup.sh --fuzz
@@ -21,9 +22,11 @@ status=0
 for t in "${targets[@]}"; do
   mkdir -p "$build/corpus/$t" "$build/artifacts/$t"
   log="$build/fuzz_$t.log"
+  dict="tests/fuzz/$t.dict"
+  [ "$t" = mesh ] && dict=tests/fuzz/gltf.dict
   echo "fuzz_$t: ${seconds} s"
   # -timeout: an input taking over 10 s is a hang; -rss_limit_mb: one over 2 GB a runaway allocation.
-  if ! "$build/bin/fuzz_$t" "$build/corpus/$t" "tests/fuzz/corpus/$t" -dict="tests/fuzz/$t.dict" \
+  if ! "$build/bin/fuzz_$t" "$build/corpus/$t" "tests/fuzz/corpus/$t" -dict="$dict" \
       -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=16384 -print_final_stats=1 \
       -artifact_prefix="$build/artifacts/$t/" > "$log" 2>&1; then
     status=1

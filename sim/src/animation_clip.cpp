@@ -130,6 +130,12 @@ void KeyCurve::sample_rotation(double t_s, Eigen::Quaterniond& value, Eigen::Vec
     Eigen::Vector4d p, p_dot;
     hermite<4>(*this, k, s, p, p_dot);
     const double n = p.norm();
+    if (!(n > 1e-9)) {
+      // The spline passes through (or next to) the zero quaternion, which is no rotation (e.g.
+      // keys q and -q with zero tangents, at the middle): hold the nearer key there.
+      value = to_quaternion(key_value<4>(*this, s < 0.5 ? k : k + 1));
+      return;
+    }
     const Eigen::Vector4d q = p / n;
     const Eigen::Vector4d q_dot = (p_dot - q * q.dot(p_dot)) / n;
     value = Eigen::Quaterniond(q[3], q[0], q[1], q[2]);

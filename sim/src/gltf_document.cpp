@@ -21,6 +21,14 @@ constexpr std::uint32_t kGlbMagic = 0x46546C67;      // "glTF"
 constexpr std::uint32_t kChunkJson = 0x4E4F534A;     // "JSON"
 constexpr std::uint32_t kChunkBin = 0x004E4942;      // "BIN\0"
 constexpr std::uint64_t kMaxFileBytes = 1ull << 31;  // 2 GiB: larger files are refused before reading
+// Decoded values a file may ask for: this many, plus kValuesPerBufferByte per byte of its
+// buffers (a float is 4 bytes, so one read of every accessor asks for at most 1 per byte; the
+// margin is for accessors several primitives, nodes or channels share).
+constexpr std::uint64_t kBaseValues = 1ull << 22;
+constexpr std::uint64_t kValuesPerBufferByte = 16;
+// JSON nesting: glTF itself needs under ten levels. Deeper files are refused, as the other
+// reader (assimp, for files without animations or skins) recurses once per level.
+constexpr std::size_t kMaxJsonDepth = 256;
 
 std::uint32_t le32(const std::uint8_t* p) {
   return static_cast<std::uint32_t>(p[0]) | static_cast<std::uint32_t>(p[1]) << 8 |
@@ -79,7 +87,23 @@ std::string percent_decode(const std::string& uri) {
   return out;
 }
 
-std::size_t component_size(int type) {
+// The deepest nesting of arrays and objects in `root` (a scalar is depth 0), without recursion;
+// stops counting once past `limit`.
+std::size_t json_depth(const json& root, std::size_t limit) {
+  std::size_t deepest = 0;
+  std::vector<std::pair<const json*, std::size_t>> stack{{&root, 0}};
+  while (!stack.empty()) {
+    const auto [node, depth] = stack.back();
+    stack.pop_back();
+    if (!node->is_structured()) continue;
+    deepest = std::max(deepest, depth + 1);
+    if (deepest > limit) break;
+    for (const auto& child : *node) stack.emplace_back(&child, depth + 1);
+  }
+  return deepest;
+}
+
+std::size_t component_size(std::uint64_t type) {
   switch (type) {
     case 5120:
     case 5121:
@@ -186,6 +210,9 @@ std::optional<GltfDocument> GltfDocument::read(const std::string& path) {
     throw std::invalid_argument("mesh '" + path + "' cannot be read: malformed glTF JSON: " + e.what());
   }
   if (!doc.json_.is_object()) doc.fail("the glTF JSON is not an object");
+  if (json_depth(doc.json_, kMaxJsonDepth) > kMaxJsonDepth) {
+    doc.fail("the glTF JSON nests arrays and objects more than " + std::to_string(kMaxJsonDepth) + " levels deep");
+  }
   if (!doc.json_.contains("asset") || !doc.json_["asset"].is_object() || !doc.json_["asset"].contains("version") ||
       !doc.json_["asset"]["version"].is_string() || doc.json_["asset"]["version"].get<std::string>().rfind("2.", 0) != 0) {
     doc.fail("asset.version must be \"2.x\" (glTF 2.0)");
@@ -221,6 +248,17 @@ void GltfDocument::load_buffers() {
     }
     buffers_.push_back(std::move(data));
   }
+  value_budget_ = kBaseValues;
+  for (const auto& b : buffers_) value_budget_ += kValuesPerBufferByte * b.size();
+}
+
+void GltfDocument::charge(std::uint64_t values, const std::string& what) const {
+  if (values > value_budget_ - values_read_) {
+    fail(what + " would bring the values read from the file to " + std::to_string(values_read_ + values) +
+         ", more than the " + std::to_string(value_budget_) + " its buffers allow (" + std::to_string(kBaseValues) + " + " +
+         std::to_string(kValuesPerBufferByte) + " per buffer byte): an accessor or skin declared far larger than its data, or reused too often");
+  }
+  values_read_ += values;
 }
 
 std::size_t GltfDocument::count(const char* key) const {
@@ -244,9 +282,10 @@ std::vector<double> GltfDocument::read_accessor(std::size_t index, const std::ve
   const std::string where = what + " (accessors[" + std::to_string(index) + "])";
   const std::string type = json_string(*this, a, "type", where, "");
   if (std::find(types.begin(), types.end(), type) == types.end()) fail(where + " has type '" + type + "'");
-  const int component = static_cast<int>(json_index(*this, a, "componentType", where));
-  const std::size_t csize = component_size(component);
-  if (csize == 0) fail(where + " has componentType " + std::to_string(component));
+  const std::uint64_t component_value = json_index(*this, a, "componentType", where);
+  const std::size_t csize = component_size(component_value);
+  if (csize == 0) fail(where + " has componentType " + std::to_string(component_value));
+  const int component = static_cast<int>(component_value);  // one of the six, checked above
   const bool normalized = a.contains("normalized") && a["normalized"].is_boolean() && a["normalized"].get<bool>();
   if (component != 5126 && !normalized && !allow_integer) fail(where + " must hold floats or normalized integers");
   if (type == "MAT4" && component != 5126) fail(where + ": MAT4 accessors must hold floats");
@@ -266,16 +305,20 @@ std::vector<double> GltfDocument::read_accessor(std::size_t index, const std::ve
     const std::uint64_t offset = a.contains("byteOffset") ? json_index(*this, a, "byteOffset", where) : 0;
     if (stride < element_size) fail(vw + ".byteStride " + std::to_string(stride) + " is smaller than an element");
     if (n > view_length) fail(where + " has more elements than its buffer view has bytes");
-    if (view_offset + view_length > buffers_[buffer].size() || offset + stride * (n - 1) + element_size > view_length) {
+    // offset + stride (n - 1) + element_size <= view_length, written so that nothing overflows
+    // (stride and offset may each be up to 2^40).
+    if (view_offset + view_length > buffers_[buffer].size() || offset > view_length ||
+        element_size > view_length - offset || n - 1 > (view_length - offset - element_size) / stride) {
       fail(where + " reaches past the end of its buffer view or buffer");
     }
+    charge(n * width, where);
     out.resize(n * width);
     const std::uint8_t* base = buffers_[buffer].data() + view_offset + offset;
     for (std::uint64_t e = 0; e < n; ++e) {
       for (std::size_t c = 0; c < width; ++c) out[e * width + c] = read_component(base + e * stride + c * csize, component, normalized);
     }
   } else {
-    if (n > (1u << 26)) fail(where + " has no buffer view and " + std::to_string(n) + " elements");
+    charge(n * width, where);  // n <= 2^40, width <= 16: no overflow
     out.assign(n * width, 0.0);  // no buffer view: zeros, then any sparse substitution
   }
   if (a.contains("sparse")) {
@@ -283,6 +326,7 @@ std::vector<double> GltfDocument::read_accessor(std::size_t index, const std::ve
     const std::string sw = where + ".sparse";
     if (!sp.is_object() || !sp.contains("indices") || !sp.contains("values")) fail(sw + " needs indices and values");
     const std::size_t m = json_index(*this, sp, "count", sw);
+    if (m > n) fail(sw + ".count " + std::to_string(m) + " is more than the accessor's count " + std::to_string(n));
     const auto part = [&](const char* key, int ctype, std::size_t w) {
       const json& p = sp[key];
       const std::string pw = sw + "." + key;
@@ -300,8 +344,11 @@ std::vector<double> GltfDocument::read_accessor(std::size_t index, const std::ve
       }
       return v;
     };
-    const int index_type = static_cast<int>(json_index(*this, sp["indices"], "componentType", sw + ".indices"));
-    if (index_type != 5121 && index_type != 5123 && index_type != 5125) fail(sw + ".indices must be unsigned integers");
+    const std::uint64_t index_type_value = json_index(*this, sp["indices"], "componentType", sw + ".indices");
+    if (index_type_value != 5121 && index_type_value != 5123 && index_type_value != 5125) {
+      fail(sw + ".indices must be unsigned integers");
+    }
+    const int index_type = static_cast<int>(index_type_value);
     const std::vector<double> idx = part("indices", index_type, 1);
     const std::vector<double> values = part("values", component, width);
     for (std::size_t k = 0; k < m; ++k) {

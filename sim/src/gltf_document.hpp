@@ -32,6 +32,12 @@ class GltfDocument {
   std::vector<double> read_accessor(std::size_t index, const std::vector<std::string>& types, const std::string& what,
                                     bool allow_integer = true) const;
 
+  /// Counts `values` more decoded values (accessor components, joints' matrices) against what
+  /// the file may ask for: 2^22 + 16 per byte of its buffers. Files that reuse one accessor or
+  /// one skin many times, or declare huge accessors without data, stop here with `what` named,
+  /// before the memory is taken.
+  void charge(std::uint64_t values, const std::string& what) const;
+
   /// The element at json()[key][index] as an object, or an error naming it.
   const nlohmann::json& element(const char* key, std::size_t index) const;
   std::size_t count(const char* key) const;
@@ -43,6 +49,8 @@ class GltfDocument {
   nlohmann::json json_;
   std::vector<std::vector<std::uint8_t>> buffers_;
   std::optional<std::vector<std::uint8_t>> glb_bin_;
+  std::uint64_t value_budget_ = 0;
+  mutable std::uint64_t values_read_ = 0;
 };
 
 /// Typed members of a JSON object; `where` is the object's JSON path, for messages.

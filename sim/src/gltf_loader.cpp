@@ -37,6 +37,56 @@ void check_extensions(const GltfDocument& doc) {
   }
 }
 
+// The count of accessor `index` as the JSON gives it; nullopt when anything on the way is not
+// as glTF has it (the reader that reads the file then says what).
+std::optional<std::uint64_t> accessor_count(const json& root, const json& index) {
+  if (!index.is_number_unsigned() || !root.contains("accessors") || !root["accessors"].is_array()) return std::nullopt;
+  const json& accessors = root["accessors"];
+  const auto k = index.get<std::uint64_t>();
+  if (k >= accessors.size() || !accessors[k].is_object() || !accessors[k].contains("count") ||
+      !accessors[k]["count"].is_number_unsigned()) {
+    return std::nullopt;
+  }
+  return accessors[k]["count"].get<std::uint64_t>();
+}
+
+// Every primitive has at least the vertices (indices, or positions without indices) one point,
+// line or triangle of its mode needs, as glTF requires: assimp 5.2, which reads the files without
+// animations or skins, trusts the count and allocates count - 2 faces for a strip or fan of fewer
+// than 3 (SIZE_MAX of them for 1), writes past the faces it allocated for a fan of 2, and
+// dereferences a null pointer for a line loop of 1. Checked on the JSON alone, before either
+// reader runs; a primitive whose mode or count is malformed is left to the reader to name.
+void check_primitive_counts(const GltfDocument& doc) {
+  const json& root = doc.root();
+  if (!root.contains("meshes") || !root["meshes"].is_array()) return;
+  static const char* const kModes[] = {"points", "lines", "line loop", "line strip", "triangles", "triangle strip", "triangle fan"};
+  static const std::uint64_t kLeast[] = {1, 2, 2, 2, 3, 3, 3};
+  for (std::size_t m = 0; m < root["meshes"].size(); ++m) {
+    const json& mesh = root["meshes"][m];
+    if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+    for (std::size_t p = 0; p < mesh["primitives"].size(); ++p) {
+      const json& prim = mesh["primitives"][p];
+      if (!prim.is_object()) continue;
+      const json mode_json = prim.contains("mode") ? prim["mode"] : json(4);
+      if (!mode_json.is_number_unsigned() || mode_json.get<std::uint64_t>() > 6) continue;
+      const auto mode = mode_json.get<std::size_t>();
+      std::optional<std::uint64_t> count;
+      const char* what = "indices";
+      if (prim.contains("indices")) {
+        count = accessor_count(root, prim["indices"]);
+      } else if (prim.contains("attributes") && prim["attributes"].is_object() && prim["attributes"].contains("POSITION")) {
+        count = accessor_count(root, prim["attributes"]["POSITION"]);
+        what = "vertices";
+      }
+      if (count && *count < kLeast[mode]) {
+        doc.fail("meshes[" + std::to_string(m) + "].primitives[" + std::to_string(p) + "] has " + std::to_string(*count) + " " +
+                 what + " for mode " + std::to_string(mode) + " (" + kModes[mode] + "), which needs at least " +
+                 std::to_string(kLeast[mode]));
+      }
+    }
+  }
+}
+
 // Rest transform of a node: its matrix, or T R S.
 MeshPart rest_part(const GltfDocument& doc, std::size_t node, bool& has_matrix) {
   const json& n = doc.element("nodes", node);
@@ -154,6 +204,7 @@ SkinSource read_skin(const GltfDocument& doc, std::size_t index, const std::vect
     }
     for (std::size_t k = 0; k < out.joint_parts.size(); ++k) out.inverse_bind.emplace_back(Eigen::Map<const Eigen::Matrix4d>(&m[16 * k]));
   } else {
+    doc.charge(16 * out.joint_parts.size(), where + " (identity inverse bind matrices)");
     out.inverse_bind.assign(out.joint_parts.size(), Eigen::Matrix4d::Identity());
   }
   return out;
@@ -236,8 +287,10 @@ void read_mesh(const GltfDocument& doc, std::size_t node, const std::vector<int>
     const json& prim = mesh["primitives"][p];
     const std::string pw = mw + ".primitives[" + std::to_string(p) + "]";
     if (!prim.is_object() || !prim.contains("attributes") || !prim["attributes"].is_object()) doc.fail(pw + ".attributes is missing");
-    const int mode = static_cast<int>(json_optional_index(doc, prim, "mode", pw).value_or(4));
-    if (mode < 4 || mode > 6) {
+    const std::size_t mode_value = json_optional_index(doc, prim, "mode", pw).value_or(4);
+    if (mode_value > 6) doc.fail(pw + ".mode is " + std::to_string(mode_value) + ", glTF has modes 0 to 6");
+    const int mode = static_cast<int>(mode_value);
+    if (mode < 4) {
       ++other_primitives;  // points and lines: no surface for a beam to hit
       continue;
     }
@@ -254,11 +307,13 @@ void read_mesh(const GltfDocument& doc, std::size_t node, const std::vector<int>
     }
     const std::vector<std::uint32_t> tris = triangles(doc, mode, idx, vertex_count, pw);
     float reflectivity = fallback;
+    std::string material;
     if (const auto m = json_optional_index(doc, prim, "material", pw)) {
-      const std::string name = json_string(doc, doc.element("materials", *m), "name", "materials[" + std::to_string(*m) + "]", "");
-      const auto it = table.find(name);
+      material = json_string(doc, doc.element("materials", *m), "name", "materials[" + std::to_string(*m) + "]", "");
+      const auto it = table.find(material);
       if (it != table.end()) reflectivity = it->second;
     }
+    const std::uint16_t material_index = asset.material_index(material);
     const auto base = static_cast<std::uint32_t>(part.vertices.size());
     if (part.vertices.size() + vertex_count > 0xFFFFFFF0u) doc.fail(pw + ": too many vertices");
     for (std::size_t v = 0; v < vertex_count; ++v) {
@@ -268,12 +323,29 @@ void read_mesh(const GltfDocument& doc, std::size_t node, const std::vector<int>
     }
     for (const auto i : tris) part.indices.push_back(base + i);
     part.triangle_reflectivity.insert(part.triangle_reflectivity.end(), tris.size() / 3, reflectivity);
+    part.triangle_material.insert(part.triangle_material.end(), tris.size() / 3, material_index);
     if (skin_source) read_influences(doc, attributes, pw, vertex_count, skin_source->joint_parts.size(), *skin);
   }
   if (morph) ++morph_meshes;
   if (skin_source && !part.vertices.empty()) {
     skin->validate("mesh '" + doc.path() + "': " + nw + " skin", part.vertices.size(), asset.parts.size());
     part.skin = std::move(skin);
+  }
+}
+
+// Every node's rest transform and every vertex at rest must be finite: transforms of finite but
+// huge numbers (a translation of 1e308 under a scale of 1e308) overflow, and the rest of the
+// simulator expects finite geometry.
+void check_rest_pose(const GltfDocument& doc, const MeshAsset& asset, const std::vector<int>& part_of) {
+  const std::vector<Eigen::Affine3d> T = asset.rest_transforms();
+  for (std::size_t node = 0; node < part_of.size(); ++node) {
+    if (part_of[node] < 0) continue;
+    const auto k = static_cast<std::size_t>(part_of[node]);
+    const std::string what = "nodes[" + std::to_string(node) + "] ('" + asset.parts[k].name + "')";
+    if (!T[k].matrix().allFinite()) doc.fail(what + ": its transform at rest overflows (translation, scale or matrix too large)");
+    for (const auto& v : asset.rest_vertices(k, T)) {
+      if (!v.allFinite()) doc.fail(what + ": its vertices at rest overflow (coordinates or transforms too large)");
+    }
   }
 }
 
@@ -295,6 +367,7 @@ AnimationClip read_animation(const GltfDocument& doc, std::size_t index, const s
     doc.fail("clip '" + clip.name + "' (" + aw + ") needs channels and samplers");
   }
   const json& samplers = anim["samplers"];
+  std::vector<int> track_of_part(part_of.size(), -1);  // the clip's track for each part (parts <= nodes)
   for (std::size_t c = 0; c < anim["channels"].size(); ++c) {
     const json& ch = anim["channels"][c];
     const std::string cw = "clip '" + clip.name + "' channel " + std::to_string(c);
@@ -338,12 +411,13 @@ AnimationClip read_animation(const GltfDocument& doc, std::size_t index, const s
                                      what + " output");
     curve.validate("mesh '" + doc.path() + "': " + what);
     const auto part = part_of[*node];
-    auto track = std::find_if(clip.tracks.begin(), clip.tracks.end(), [&](const NodeTrack& t) { return t.part == part; });
-    if (track == clip.tracks.end()) {
+    int& track_index = track_of_part[static_cast<std::size_t>(part)];
+    if (track_index < 0) {
+      track_index = static_cast<int>(clip.tracks.size());
       clip.tracks.push_back({});
-      track = clip.tracks.end() - 1;
-      track->part = part;
+      clip.tracks.back().part = part;
     }
+    NodeTrack* track = &clip.tracks[static_cast<std::size_t>(track_index)];
     KeyCurve& slot = path == "translation" ? track->translation : path == "rotation" ? track->rotation : track->scale;
     if (!slot.empty()) doc.fail(what + ": a second channel for the same node and property");
     slot = std::move(curve);
@@ -357,6 +431,7 @@ AnimationClip read_animation(const GltfDocument& doc, std::size_t index, const s
 std::optional<MeshAsset> load_animated_gltf(const std::string& path, const ReflectivityTable& reflectivity,
                                             float default_reflectivity) {
   std::optional<GltfDocument> read = GltfDocument::read(path);
+  if (read) check_primitive_counts(*read);
   if (!read || (read->count("animations") == 0 && read->count("skins") == 0)) return std::nullopt;
   check_extensions(*read);
   read->load_buffers();
@@ -371,6 +446,7 @@ std::optional<MeshAsset> load_animated_gltf(const std::string& path, const Refle
       read_mesh(doc, node, part_of, reflectivity, default_reflectivity, asset, morph_meshes, other_primitives);
     }
   }
+  check_rest_pose(doc, asset, part_of);
   for (std::size_t a = 0; a < doc.count("animations"); ++a) {
     asset.clips.push_back(read_animation(doc, a, part_of, has_matrix, morph_channels, outside_channels));
   }
