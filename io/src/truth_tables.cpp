@@ -12,7 +12,15 @@ const char* const kEgoCsvHeader =
     "frame,time_s,x_m,y_m,z_m,qw,qx,qy,qz,vx_mps,vy_mps,vz_mps,wx_rps,wy_rps,wz_rps\n";
 const char* const kObjectsCsvHeader =
     "frame,time_s,id,class,x_m,y_m,z_m,qw,qx,qy,qz,rig_x_m,rig_y_m,rig_z_m,vx_mps,vy_mps,vz_mps,wx_rps,wy_rps,wz_rps,"
+    "pixels,box_x_m,box_y_m,box_z_m,box_length_m,box_width_m,box_height_m,box_yaw_rad,box_vx_mps,box_vy_mps,box_vz_mps,"
+    "visible_fraction,truncated,box_world_x_m,box_world_y_m,box_world_z_m,box_world_yaw_rad\n";
+
+namespace {
+// objects.csv as datasets wrote it before boxes: still read (boxes left empty).
+const char* const kObjectsCsvHeaderWithoutBoxes =
+    "frame,time_s,id,class,x_m,y_m,z_m,qw,qx,qy,qz,rig_x_m,rig_y_m,rig_z_m,vx_mps,vy_mps,vz_mps,wx_rps,wy_rps,wz_rps,"
     "pixels\n";
+}  // namespace
 
 namespace {
 void put(std::ostringstream& out, const Eigen::Vector3d& v) { out << ',' << v.x() << ',' << v.y() << ',' << v.z(); }
@@ -51,13 +59,20 @@ Eigen::Vector3d vec(const std::vector<std::string>& c, std::size_t at, const std
   return {number(c[at], file, line), number(c[at + 1], file, line), number(c[at + 2], file, line)};
 }
 
+// The rows of a table with one of the given headers; fn(cells, line, which header).
 template <typename RowFn>
-void read_rows(const std::string& file, const char* header, RowFn fn) {
+void read_rows(const std::string& file, std::initializer_list<const char*> headers, RowFn fn) {
   std::ifstream in(file);
   if (!in) throw std::invalid_argument(file + ": cannot open");
   std::string line;
   std::getline(in, line);
-  if (line + "\n" != header) throw std::invalid_argument(file + ":1: unexpected header '" + line + "'");
+  const char* header = nullptr;
+  std::size_t which = 0;
+  for (const char* h : headers) {
+    if (line + "\n" == h) header = h;
+    if (!header) ++which;
+  }
+  if (!header) throw std::invalid_argument(file + ":1: unexpected header '" + line + "'");
   const std::size_t columns = split(std::string(header).substr(0, std::string(header).size() - 1)).size();
   int line_no = 1;
   while (std::getline(in, line)) {
@@ -68,7 +83,7 @@ void read_rows(const std::string& file, const char* header, RowFn fn) {
       throw std::invalid_argument(file + ":" + std::to_string(line_no) + ": " + std::to_string(cells.size()) +
                                   " columns, expected " + std::to_string(columns));
     }
-    fn(cells, line_no);
+    fn(cells, line_no, which);
   }
 }
 }  // namespace
@@ -92,14 +107,22 @@ std::string objects_csv_rows(std::size_t frame, const core::FrameTruth& truth) {
     put(out, a.position_rig_m);
     put(out, a.velocity_rig_mps);
     put(out, a.angular_velocity_rig_rps);
-    out << ',' << a.pixels << '\n';
+    out << ',' << a.pixels;
+    const core::BoxTruth& b = a.box;
+    put(out, b.center_m);
+    put(out, b.size_m);
+    out << ',' << b.yaw_rad;
+    put(out, b.velocity_mps);
+    out << ',' << b.visible_fraction << ',' << (b.truncated ? 1 : 0);
+    put(out, b.center_world_m);
+    out << ',' << b.yaw_world_rad << '\n';
   }
   return out.str();
 }
 
 std::vector<core::FrameTruth> read_truth_tables(const std::string& ego_csv, const std::string& objects_csv) {
   std::vector<core::FrameTruth> frames;
-  read_rows(ego_csv, kEgoCsvHeader, [&](const std::vector<std::string>& c, int line) {
+  read_rows(ego_csv, {kEgoCsvHeader}, [&](const std::vector<std::string>& c, int line, std::size_t) {
     const auto frame = static_cast<std::size_t>(number(c[0], ego_csv, line));
     if (frame != frames.size()) {
       throw std::invalid_argument(ego_csv + ":" + std::to_string(line) + ": frame " + c[0] + " out of order");
@@ -111,7 +134,8 @@ std::vector<core::FrameTruth> read_truth_tables(const std::string& ego_csv, cons
     t.ego.angular_velocity_rps = vec(c, 12, ego_csv, line);
     frames.push_back(t);
   });
-  read_rows(objects_csv, kObjectsCsvHeader, [&](const std::vector<std::string>& c, int line) {
+  read_rows(objects_csv, {kObjectsCsvHeader, kObjectsCsvHeaderWithoutBoxes}, [&](const std::vector<std::string>& c, int line,
+                                                                                std::size_t header) {
     const auto frame = static_cast<std::size_t>(number(c[0], objects_csv, line));
     if (frame >= frames.size()) {
       throw std::invalid_argument(objects_csv + ":" + std::to_string(line) + ": frame " + c[0] + " not in ego.csv");
@@ -124,6 +148,17 @@ std::vector<core::FrameTruth> read_truth_tables(const std::string& ego_csv, cons
     a.velocity_rig_mps = vec(c, 14, objects_csv, line);
     a.angular_velocity_rig_rps = vec(c, 17, objects_csv, line);
     a.pixels = static_cast<int>(number(c[20], objects_csv, line));
+    if (header == 0) {
+      core::BoxTruth& b = a.box;
+      b.center_m = vec(c, 21, objects_csv, line);
+      b.size_m = vec(c, 24, objects_csv, line);
+      b.yaw_rad = number(c[27], objects_csv, line);
+      b.velocity_mps = vec(c, 28, objects_csv, line);
+      b.visible_fraction = number(c[31], objects_csv, line);
+      b.truncated = number(c[32], objects_csv, line) != 0.0;
+      b.center_world_m = vec(c, 33, objects_csv, line);
+      b.yaw_world_rad = number(c[36], objects_csv, line);
+    }
     frames[frame].actors.push_back(a);
   });
   return frames;

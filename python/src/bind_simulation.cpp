@@ -31,6 +31,29 @@ py::object pixel_truth(const core::Frame& f) {
   // The semantic class id per pixel (the dataset's class table maps ids to names); absent in
   // datasets written before classes were.
   if (!t.semantic_class.empty()) d["class"] = to_image(t.semantic_class, rows, cols);
+  // The actors' boxes (frames of a Scenario; a PCD alone has none): one row per actor.
+  if (f.frame_truth) {
+    const auto& actors = f.frame_truth->actors;
+    const auto n = static_cast<py::ssize_t>(actors.size());
+    py::array_t<double> boxes({n, py::ssize_t{7}}), velocity({n, py::ssize_t{3}});
+    py::array_t<double> visible(n);
+    py::array_t<bool> truncated(n);
+    py::array_t<std::uint32_t> ids(n);
+    for (py::ssize_t k = 0; k < n; ++k) {
+      const core::BoxTruth& b = actors[static_cast<std::size_t>(k)].box;
+      const double row[7] = {b.center_m.x(), b.center_m.y(), b.center_m.z(), b.size_m.x(), b.size_m.y(), b.size_m.z(), b.yaw_rad};
+      for (int c = 0; c < 7; ++c) boxes.mutable_at(k, c) = row[c];
+      for (int c = 0; c < 3; ++c) velocity.mutable_at(k, c) = b.velocity_mps[c];
+      visible.mutable_at(k) = b.visible_fraction;
+      truncated.mutable_at(k) = b.truncated;
+      ids.mutable_at(k) = actors[static_cast<std::size_t>(k)].id;
+    }
+    d["box_id"] = ids;
+    d["boxes"] = boxes;
+    d["box_velocity"] = velocity;
+    d["visible_fraction"] = visible;
+    d["truncated"] = truncated;
+  }
   return d;
 }
 
@@ -57,6 +80,16 @@ py::object actors_truth(const core::Frame& f) {
     d["velocity"] = to_array(a.velocity_rig_mps);
     d["angular_velocity"] = to_array(a.angular_velocity_rig_rps);
     d["pixels"] = a.pixels;
+    py::dict box;
+    box["center"] = to_array(a.box.center_m);
+    box["size"] = to_array(a.box.size_m);
+    box["yaw"] = a.box.yaw_rad;
+    box["velocity"] = to_array(a.box.velocity_mps);
+    box["center_world"] = to_array(a.box.center_world_m);
+    box["yaw_world"] = a.box.yaw_world_rad;
+    box["visible_fraction"] = a.box.visible_fraction;
+    box["truncated"] = a.box.truncated;
+    d["box"] = box;
     out.append(d);
   }
   return out;
@@ -66,7 +99,9 @@ py::object actors_truth(const core::Frame& f) {
 void bind_simulation(py::module_& m) {
   py::class_<core::Frame>(m, "Frame",
                           "A scan and, for simulated data, its ground truth. truth: per-pixel arrays (range, v, "
-                          "velocity (rows, cols, 3), instance, moving); ego: the rig's pose and velocity (rig axes); "
+                          "velocity (rows, cols, 3), instance, moving, class) and, for a Scenario's frames, the actors' "
+                          "boxes (box_id, boxes (n, 7): x y z length width height yaw in the rig frame, box_velocity "
+                          "(n, 3), visible_fraction, truncated); ego: the rig's pose and velocity (rig axes); "
                           "actors: one dict per actor (velocities absolute, in rig axes).")
       .def_property_readonly("scan", [](const core::Frame& f) { return f.scan; })
       .def_property_readonly("truth", &pixel_truth)

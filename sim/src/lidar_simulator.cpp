@@ -12,6 +12,7 @@
 
 #include "fmcw/core/check.hpp"
 #include "fmcw/core/random.hpp"
+#include "fmcw/sim/actor_boxes.hpp"
 #include "fmcw/sim/actor_culling.hpp"
 #include "beam_shading.hpp"
 
@@ -417,6 +418,8 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
     }
     truth.actors.push_back(at);
   }
+  // Boxes at the frame's instant, as the rig stands then.
+  actor_boxes(*scene_, params_.rig, directions_rig_, ego.T_world_body, params_.min_range_m, truth.actors);
   frame.frame_truth = std::move(truth);
 }
 

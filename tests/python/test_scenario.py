@@ -99,3 +99,23 @@ def test_imported_animation_moves_and_unplayed_clips_are_noted():
     assert np.count_nonzero(instance == 8) > 20
     assert np.count_nonzero(moving & (instance == 8)) == 0
 
+
+
+def test_boxes_and_classes_as_arrays():
+    intersection = fmcw.Scenario(str(SOURCE_DIR / "scenarios" / "intersection.yaml"), frames=40)
+    frame = intersection.frame(30)
+    truth = frame.truth
+    n = len(frame.actors)
+    assert truth["boxes"].shape == (n, 7) and truth["box_velocity"].shape == (n, 3)
+    assert truth["class"].dtype == np.uint16 and truth["class"].shape == (150, 600)
+    assert list(truth["box_id"]) == [a["id"] for a in frame.actors]
+    assert np.all((truth["visible_fraction"] >= 0) & (truth["visible_fraction"] <= 1))
+    # The truck (id 4) drives straight along x: its box is 9 m long, heading 0, at its speed.
+    truck = list(truth["box_id"]).index(4)
+    assert truth["boxes"][truck, 3] == pytest.approx(9.0, abs=0.01)
+    assert truth["boxes"][truck, 6] == pytest.approx(0.0, abs=1e-9)
+    assert truth["box_velocity"][truck] == pytest.approx(frame.actors[truck]["velocity"], abs=1e-9)
+    # Every pixel of an actor carries the actor's class: car 10, van 100, truck 18, pedestrian 30, ...
+    instance = np.asarray(truth["instance"])
+    assert set(np.unique(truth["class"][instance == 4])) == {18}
+    assert {40, 48, 50, 70, 80} <= set(np.unique(truth["class"]).tolist())

@@ -33,6 +33,20 @@ struct EgoTruth {
   Eigen::Vector3d angular_velocity_rps = Eigen::Vector3d::Zero();  ///< rig axes
 };
 
+/// An actor's oriented 3D box at the frame's time: tight around its surface at that instant
+/// (limbs and wheels included), its length along the body's heading.
+struct BoxTruth {
+  Eigen::Vector3d center_m = Eigen::Vector3d::Zero();  ///< rig frame
+  Eigen::Vector3d size_m = Eigen::Vector3d::Zero();    ///< length (along the heading), width, height
+  double yaw_rad = 0.0;                                ///< heading about the rig's z axis
+  Eigen::Vector3d velocity_mps = Eigen::Vector3d::Zero();  ///< of the box centre: world motion in rig axes
+  Eigen::Vector3d center_world_m = Eigen::Vector3d::Zero();
+  double yaw_world_rad = 0.0;  ///< heading about the world's z axis
+  /// The actor's pixels over the pixels whose beams meet the box within range, occluded or not.
+  double visible_fraction = 0.0;
+  bool truncated = false;  ///< a corner of the box lies outside every head's field of view
+};
+
 /// One actor at the frame's time. Velocities are absolute (world motion) expressed in rig axes,
 /// as the estimators report them; the reference point is the actor's origin (the centre of its
 /// footprint on the ground).
@@ -44,6 +58,7 @@ struct ActorTruth {
   Eigen::Vector3d velocity_rig_mps = Eigen::Vector3d::Zero();
   Eigen::Vector3d angular_velocity_rig_rps = Eigen::Vector3d::Zero();
   int pixels = 0;  ///< pixels of this frame that hit the actor
+  BoxTruth box;
 };
 
 struct FrameTruth {

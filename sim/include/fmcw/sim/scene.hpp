@@ -160,6 +160,10 @@ class Scene {
   /// Body state of actor k at the current time.
   const MotionState& actor_state(std::size_t k) const { return actor_states_[k]; }
   std::size_t static_triangle_count() const { return static_reflectivity_.size(); }
+  /// Every vertex of actor k's parts at the current time (skins deformed), world frame.
+  std::vector<Eigen::Vector3d> actor_surface(std::size_t k) const;
+  /// The box of actor_surface(k) in the frame T_frame_world takes the world to.
+  Eigen::AlignedBox3d actor_extent(std::size_t k, const Eigen::Isometry3d& T_frame_world) const;
   /// Vertices of actor k's skinned parts, deformed at the current time (world frame): what the
   /// rays see. Empty for an actor without skins.
   std::vector<Eigen::Vector3f> skinned_vertices(std::size_t k) const;
