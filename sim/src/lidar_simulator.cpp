@@ -419,7 +419,7 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
     truth.actors.push_back(at);
   }
   // Boxes at the frame's instant, as the rig stands then.
-  actor_boxes(*scene_, params_.rig, directions_rig_, ego.T_world_body, params_.min_range_m, truth.actors);
+  actor_boxes(*scene_, params_.rig, directions_rig_, ego.T_world_body, params_.min_range_m, threads, truth.actors);
   frame.frame_truth = std::move(truth);
 }
 

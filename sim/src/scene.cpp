@@ -321,27 +321,31 @@ void Scene::add_skinned_slot(std::size_t a, std::size_t k) {
   im.skinned.push_back(std::move(sk));
 }
 
-std::vector<Eigen::Vector3d> Scene::actor_surface(std::size_t k) const {
+void Scene::for_each_surface_point(std::size_t k, const std::function<void(const Eigen::Vector3d&)>& visit) const {
   const Impl& im = *impl_;
-  std::vector<Eigen::Vector3d> out;
   const MeshAsset& asset = *actors_[k].asset;
   for (std::size_t p = 0; p < asset.parts.size(); ++p) {
     const std::uint32_t slot = im.part_slot[k][p];
     if (slot == 0) continue;
     if (im.slots[slot].skinned >= 0) {
       const Impl::Skinned& sk = im.skinned[static_cast<std::size_t>(im.slots[slot].skinned)];
-      for (std::size_t v = 0; v < sk.velocity.size(); ++v) out.emplace_back(sk.vertices[3 * v], sk.vertices[3 * v + 1], sk.vertices[3 * v + 2]);
+      for (std::size_t v = 0; v < sk.velocity.size(); ++v) visit(Eigen::Vector3d(sk.vertices[3 * v], sk.vertices[3 * v + 1], sk.vertices[3 * v + 2]));
       continue;
     }
     const Eigen::Matrix4d& M = im.part_motion[k][p].M;
-    for (const auto& v : asset.parts[p].vertices) out.push_back(M.topLeftCorner<3, 3>() * v.cast<double>() + M.topRightCorner<3, 1>());
+    for (const auto& v : asset.parts[p].vertices) visit(M.topLeftCorner<3, 3>() * v.cast<double>() + M.topRightCorner<3, 1>());
   }
+}
+
+std::vector<Eigen::Vector3d> Scene::actor_surface(std::size_t k) const {
+  std::vector<Eigen::Vector3d> out;
+  for_each_surface_point(k, [&](const Eigen::Vector3d& p) { out.push_back(p); });
   return out;
 }
 
 Eigen::AlignedBox3d Scene::actor_extent(std::size_t k, const Eigen::Isometry3d& T_frame_world) const {
   Eigen::AlignedBox3d box;
-  for (const auto& p : actor_surface(k)) box.extend(T_frame_world * p);
+  for_each_surface_point(k, [&](const Eigen::Vector3d& p) { box.extend(T_frame_world * p); });
   return box;
 }
 

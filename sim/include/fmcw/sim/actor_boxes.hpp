@@ -15,8 +15,10 @@ namespace fmcw::sim {
 /// T_world_rig (rig.directions_rig() per pixel in directions_rig): the box in the rig and world
 /// frames, the velocity of its centre (the body's rigid motion there), truncated when a corner
 /// lies outside every head's field of view, and visible_fraction = actors[k].pixels over the
-/// pixels whose beams meet the box between min_range_m and the head's range.
+/// pixels whose beams meet the box between min_range_m and the head's range. Actors are shared
+/// out over num_threads threads; the result does not depend on it.
 void actor_boxes(const Scene& scene, const core::RigModel& rig, const std::vector<Eigen::Vector3f>& directions_rig,
-                 const Eigen::Isometry3d& T_world_rig, double min_range_m, std::vector<core::ActorTruth>& actors);
+                 const Eigen::Isometry3d& T_world_rig, double min_range_m, int num_threads,
+                 std::vector<core::ActorTruth>& actors);
 
 }  // namespace fmcw::sim

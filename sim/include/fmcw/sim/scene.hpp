@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -160,7 +161,10 @@ class Scene {
   /// Body state of actor k at the current time.
   const MotionState& actor_state(std::size_t k) const { return actor_states_[k]; }
   std::size_t static_triangle_count() const { return static_reflectivity_.size(); }
-  /// Every vertex of actor k's parts at the current time (skins deformed), world frame.
+  /// Calls visit(p) for every vertex p of actor k's parts at the current time (skins deformed),
+  /// world frame.
+  void for_each_surface_point(std::size_t k, const std::function<void(const Eigen::Vector3d&)>& visit) const;
+  /// Every vertex of actor k's parts at the current time, world frame.
   std::vector<Eigen::Vector3d> actor_surface(std::size_t k) const;
   /// The box of actor_surface(k) in the frame T_frame_world takes the world to.
   Eigen::AlignedBox3d actor_extent(std::size_t k, const Eigen::Isometry3d& T_frame_world) const;
