@@ -162,10 +162,12 @@ void write_snapshot(const std::string& dir, const EvaluationResult& r) {
   }
   cl.write((fs::path(dir) / EvaluationFiles::kSnapshotClusters).string());
 
-  CsvTable ac({"actor", "class", "x_m", "y_m", "z_m", "vx_mps", "vy_mps", "vz_mps", "pixels"});
+  CsvTable ac({"actor", "class", "x_m", "y_m", "z_m", "vx_mps", "vy_mps", "vz_mps", "pixels", "box_x_m", "box_y_m",
+               "box_z_m", "box_length_m", "box_width_m", "box_height_m", "box_yaw_rad"});
   if (s.frame.frame_truth) {
     for (const core::ActorTruth& a : s.frame.frame_truth->actors) {
       ac.add(a.id).add(a.class_name).add(a.position_rig_m).add(a.velocity_rig_mps).add(a.pixels);
+      ac.add(a.box.center_m).add(a.box.size_m).add(a.box.yaw_rad);
       ac.end_row();
     }
   }

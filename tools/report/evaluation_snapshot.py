@@ -85,6 +85,21 @@ def _bev_limits(data, valid):
     return (max(x_lo, -5.0), x_hi), (y_lo, y_hi)
 
 
+def _draw_boxes(ax, a, seen):
+    """The ground-truth boxes of the actors seen, from above: their outline, a tick at the front."""
+    if "box_yaw_rad" not in a:  # a report of a dataset written before boxes
+        return
+    for k in np.flatnonzero(seen):
+        c, s = np.cos(a["box_yaw_rad"][k]), np.sin(a["box_yaw_rad"][k])
+        hl, hw = 0.5 * a["box_length_m"][k], 0.5 * a["box_width_m"][k]
+        corners = [(hl, hw), (-hl, hw), (-hl, -hw), (hl, -hw), (hl, hw)]
+        xs = [a["box_x_m"][k] + c * u - s * v for u, v in corners]
+        ys = [a["box_y_m"][k] + s * u + c * v for u, v in corners]
+        ax.plot(xs, ys, color="k", lw=0.8, alpha=0.8, zorder=3)
+        ax.plot([a["box_x_m"][k], a["box_x_m"][k] + c * hl], [a["box_y_m"][k], a["box_y_m"][k] + s * hl], color="k",
+                lw=0.8, alpha=0.8, zorder=3)
+
+
 def figure_bev(data):
     """Fig. 1: bird's-eye view; static grey, each moving cluster its own colour, velocity arrows."""
     p = data.pixels
@@ -123,6 +138,7 @@ def figure_bev(data):
         big = cl["pixels"] >= 20
         ok = big & (cl["valid"] == 1)
         seen = a["pixels"] > 0
+        _draw_boxes(ax, a, seen)
         ax.quiver(a["x_m"][seen], a["y_m"][seen], a["vx_mps"][seen], a["vy_mps"][seen], angles="xy",
                   scale_units="xy", scale=1.0, width=0.0035 * (0.5 if stacked else 1.0), color="k", zorder=4)
         ax.quiver(cl["centroid_x_m"][ok], cl["centroid_y_m"][ok], cl["vx_mps"][ok], cl["vy_mps"][ok], angles="xy",
@@ -139,8 +155,9 @@ def figure_bev(data):
                plt.Line2D([], [], marker="o", ls="none", color=palette[2], ms=6, label="points of a moving cluster"),
                plt.Line2D([], [], color=palette[2], lw=3, label="its estimated velocity (clusters ≥ 20 points)"),
                plt.Line2D([], [], color="k", lw=1.2, label="true actor velocity (arrow = 1 s of motion)"),
+               plt.Line2D([], [], color="k", lw=0.8, label="true box (a tick at its front)"),
                plt.Line2D([], [], marker=(3, 0, -90), ls="none", color="#d62728", ms=9, label="ego (rig origin)")]
-    fig.legend(handles=handles, loc="lower center", ncol=5, fontsize=8.5, bbox_to_anchor=(0.5, 0.0))
+    fig.legend(handles=handles, loc="lower center", ncol=6, fontsize=8.5, bbox_to_anchor=(0.5, 0.0))
     frame = data.metrics["snapshot_frame"]
     fig.suptitle(f"Bird's-eye view of frame {frame} (t = {frame / data.rate_hz:.1f} s), '{data.metrics['scenario']}': "
                  "static world grey, each moving cluster its own colour (Fig. 1)", fontsize=11)
