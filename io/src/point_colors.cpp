@@ -8,7 +8,24 @@
 
 namespace fmcw::io {
 
+using core::concat;
+
 namespace {
+struct ClassColor {
+  std::uint16_t id;
+  Rgb rgb;
+};
+// SemanticKITTI's color_map (semantic-kitti.yaml, there as BGR) for its classes, and van.
+constexpr ClassColor kClassColors[] = {
+    {0, {0, 0, 0}},         {10, {100, 150, 245}}, {11, {100, 230, 245}}, {13, {100, 80, 250}},
+    {15, {30, 60, 150}},    {18, {80, 30, 180}},   {20, {0, 0, 255}},     {30, {255, 30, 30}},
+    {31, {255, 40, 200}},   {32, {150, 30, 90}},   {40, {255, 0, 255}},   {44, {255, 150, 255}},
+    {48, {75, 0, 75}},      {49, {175, 0, 75}},    {50, {255, 200, 0}},   {51, {255, 120, 50}},
+    {52, {255, 150, 0}},    {60, {150, 255, 170}}, {70, {0, 175, 0}},     {71, {135, 60, 0}},
+    {72, {150, 240, 80}},   {80, {255, 240, 150}}, {81, {255, 0, 0}},     {99, {50, 255, 255}},
+    {100, {0, 120, 180}},  // van: a blue of its own, beside other_vehicle's
+};
+
 std::uint8_t channel(double unit) { return static_cast<std::uint8_t>(std::lround(255.0 * std::clamp(unit, 0.0, 1.0))); }
 
 // Hue in [0, 1) at full saturation, scaled by value.
@@ -46,6 +63,13 @@ Rgb label_color(std::uint16_t semantic, std::uint16_t instance) {
   return from_hue(hue, moving ? 1.0 : 0.5);
 }
 
+Rgb class_color(std::uint16_t class_id) {
+  for (const ClassColor& c : kClassColors) {
+    if (c.id == class_id) return c.rgb;
+  }
+  return kUnknownClassColor;
+}
+
 std::vector<Rgb> doppler_colors(const PcdCloud& cloud, double full_scale_mps, const std::string& where) {
   const PcdField* v = cloud.find("v");
   if (!v) throw std::invalid_argument(where + ": no field 'v' to colour by Doppler");
@@ -57,6 +81,26 @@ std::vector<Rgb> doppler_colors(const PcdCloud& cloud, double full_scale_mps, co
 std::vector<Rgb> label_colors(const PointLabels& labels) {
   std::vector<Rgb> colors(labels.semantic.size());
   for (std::size_t i = 0; i < colors.size(); ++i) colors[i] = label_color(labels.semantic[i], labels.instance[i]);
+  return colors;
+}
+
+std::vector<Rgb> class_colors(const PcdCloud& cloud, const std::string& where) {
+  const PcdField* semantic = cloud.find("class");
+  if (!semantic) {
+    throw std::invalid_argument(where + ": no field 'class' to colour by semantic class (only frames of datasets "
+                                        "written by fmcw simulate have it, and not those written before classes were)");
+  }
+  const PcdField* x = cloud.find("x");
+  std::vector<Rgb> colors(cloud.points());
+  for (std::size_t i = 0; i < colors.size(); ++i) {
+    const double id = semantic->values[i];
+    if (!(id >= 0.0 && id <= 65535.0 && id == std::floor(id))) {
+      if (x && !std::isfinite(x->values[i])) continue;  // no return: not exported
+      throw std::invalid_argument(
+          concat(where, ": point ", i, ": class ", id, " is not a class id (an integer in 0..65535)"));
+    }
+    colors[i] = class_color(static_cast<std::uint16_t>(id));
+  }
   return colors;
 }
 

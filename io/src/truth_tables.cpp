@@ -164,4 +164,15 @@ std::vector<core::FrameTruth> read_truth_tables(const std::string& ego_csv, cons
   return frames;
 }
 
+bool objects_csv_has_boxes(const std::string& objects_csv) {
+  std::ifstream in(objects_csv);
+  if (!in) throw std::invalid_argument(objects_csv + ": cannot open");
+  std::string line;
+  std::getline(in, line);
+  line += "\n";
+  if (line == kObjectsCsvHeader) return true;
+  if (line == kObjectsCsvHeaderWithoutBoxes) return false;
+  throw std::invalid_argument(objects_csv + ":1: unexpected header '" + line.substr(0, line.size() - 1) + "'");
+}
+
 }  // namespace fmcw::io

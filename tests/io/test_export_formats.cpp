@@ -6,7 +6,10 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <set>
+#include <tuple>
 
+#include "fmcw/core/semantic_classes.hpp"
 #include "fmcw/io/ply.hpp"
 #include "fmcw/io/point_colors.hpp"
 #include "fmcw/io/point_labels.hpp"
@@ -124,6 +127,76 @@ TEST_F(ExportTest, LabelsFromTheEstimateAndTheirLimits) {
   EXPECT_EQ(semantic_class("van", false), 10);
   EXPECT_EQ(semantic_class("tram", true), 251);
   EXPECT_EQ(semantic_class("tram", false), 99);
+}
+
+// With the field `class`, truth labels carry the class: SemanticKITTI's own ids as they are, van
+// as other-vehicle, a scenario's own classes as other-object, moving codes where the surface
+// moves (251 for a class SemanticKITTI has no moving code for).
+TEST_F(ExportTest, SemanticKittiLabelsFromTheFieldClass) {
+  PcdCloud c = cloud();
+  c.fields.resize(7);  // no estimate: auto takes the truth
+  c.fields[5].values = {0, 0, 7, 9};
+  c.fields[6].values = {0, 0, 1, 1};
+  c.fields.push_back({"class", 'U', 2, {40, 0, 100, 30}});
+  PointLabels truth = point_labels(c, LabelSource::kAuto, {{7, "car"}}, "test");  // the field wins over the name
+  EXPECT_EQ(truth.source, LabelSource::kTruth);
+  EXPECT_EQ(truth.semantic, (std::vector<std::uint16_t>{40, 0, 259, 254}));  // road, no return, moving van, person
+  EXPECT_EQ(truth.instance, (std::vector<std::uint16_t>{0, 0, 7, 9}));
+  c.fields[6].values = {0, 0, 0, 0};
+  truth = point_labels(c, LabelSource::kTruth, {}, "test");
+  EXPECT_EQ(truth.semantic, (std::vector<std::uint16_t>{40, 0, 20, 30}));
+  c.fields[7].values[0] = 0.5;
+  try {
+    point_labels(c, LabelSource::kTruth, {}, "f.pcd");
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("f.pcd: point 0: class 0.5 is not a class id"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(semantic_kitti_class(10, false), 10);
+  EXPECT_EQ(semantic_kitti_class(10, true), 252);
+  EXPECT_EQ(semantic_kitti_class(18, true), 258);
+  EXPECT_EQ(semantic_kitti_class(13, true), 257);
+  EXPECT_EQ(semantic_kitti_class(31, true), 253);
+  EXPECT_EQ(semantic_kitti_class(32, true), 255);
+  EXPECT_EQ(semantic_kitti_class(20, true), 259);
+  EXPECT_EQ(semantic_kitti_class(50, false), 50);
+  EXPECT_EQ(semantic_kitti_class(100, false), 20);
+  EXPECT_EQ(semantic_kitti_class(120, false), 99);  // a scenario's own (configs/classes.yaml: forklift)
+  EXPECT_EQ(semantic_kitti_class(120, true), 251);
+  EXPECT_EQ(semantic_kitti_class(11, true), 251);  // bicycle: no moving code in SemanticKITTI
+  EXPECT_EQ(semantic_kitti_class(0, false), 0);
+  EXPECT_EQ(semantic_kitti_class(0, true), 0);
+}
+
+TEST(PointColors, ClassPaletteIsFixedAndTellsTheBuiltInClassesApart) {
+  const core::ClassTable table = core::ClassTable::builtin();
+  std::set<std::tuple<int, int, int>> seen;
+  for (const core::SemanticClass& c : table.classes()) {
+    const Rgb rgb = class_color(c.id);
+    EXPECT_TRUE(seen.insert({rgb.r, rgb.g, rgb.b}).second) << c.name << " shares its colour";
+    EXPECT_FALSE(rgb.r == kUnknownClassColor.r && rgb.g == kUnknownClassColor.g && rgb.b == kUnknownClassColor.b) << c.name;
+  }
+  EXPECT_EQ(class_color(40).r, 255);  // road: SemanticKITTI's magenta
+  EXPECT_EQ(class_color(40).g, 0);
+  EXPECT_EQ(class_color(0).r + class_color(0).g + class_color(0).b, 0);
+  EXPECT_EQ(class_color(120).r, kUnknownClassColor.r);
+  EXPECT_EQ(class_color(120).g, kUnknownClassColor.g);
+
+  PcdCloud c;
+  c.width = 3;
+  c.height = 1;
+  c.fields = {{"x", 'F', 4, {1, std::nan(""), 2}}, {"class", 'U', 2, {70, 0, 70}}};
+  const std::vector<Rgb> colors = class_colors(c, "c.pcd");
+  ASSERT_EQ(colors.size(), 3u);
+  EXPECT_EQ(colors[0].g, 175);  // vegetation
+  EXPECT_EQ(colors[2].g, 175);
+  c.fields.pop_back();
+  try {
+    class_colors(c, "c.pcd");
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("c.pcd: no field 'class'"), std::string::npos) << e.what();
+  }
 }
 
 TEST(PointColors, DopplerScaleAndLabelHues) {

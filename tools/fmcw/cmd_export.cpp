@@ -1,4 +1,4 @@
-// fmcw export INPUT -o DIR --to ply|kitti|pcd: frames in the formats other tools read.
+// fmcw export INPUT -o DIR --to ply|kitti|pcd|openpcdet: frames in the formats other tools read.
 
 #include <filesystem>
 #include <iostream>
@@ -6,6 +6,7 @@
 
 #include "commands.hpp"
 #include "fmcw/io/atomic_file.hpp"
+#include "fmcw/io/openpcdet.hpp"
 #include "fmcw/io/ply.hpp"
 #include "fmcw/io/semantic_kitti.hpp"
 #include "fmcw/io/truth_tables.hpp"
@@ -27,25 +28,105 @@ struct ExportOptions {
 
 using ActorClasses = std::map<std::uint32_t, std::string>;
 
-// Actor classes per frame from a dataset's objects.csv, so that ground-truth labels name cars,
-// buses and pedestrians; empty maps for anything that is not a dataset folder.
-std::vector<ActorClasses> dataset_actor_classes(const std::string& input, std::size_t frames) {
-  std::vector<ActorClasses> classes(frames);
+// The ground-truth tables of a dataset folder (ego.csv and objects.csv beside frames/), one
+// FrameTruth per frame file; nothing for any other input.
+struct DatasetTables {
+  bool boxes = false;  ///< objects.csv has the box columns (datasets written before boxes lack them)
+  std::vector<core::FrameTruth> frames;
+};
+
+DatasetTables read_dataset_tables(const std::string& input, std::size_t frames) {
+  DatasetTables tables;
   const fs::path dir(input);
   std::error_code ec;
   if (!fs::is_directory(dir, ec) || !fs::exists(dir / "objects.csv", ec) || !fs::exists(dir / "ego.csv", ec)) {
-    return classes;
+    return tables;
   }
-  const auto truth = io::read_truth_tables((dir / "ego.csv").string(), (dir / "objects.csv").string());
-  if (truth.size() != frames) {
-    throw std::invalid_argument((dir / "ego.csv").string() + ": " + std::to_string(truth.size()) +
+  tables.frames = io::read_truth_tables((dir / "ego.csv").string(), (dir / "objects.csv").string());
+  tables.boxes = io::objects_csv_has_boxes((dir / "objects.csv").string());
+  if (tables.frames.size() != frames) {
+    throw std::invalid_argument((dir / "ego.csv").string() + ": " + std::to_string(tables.frames.size()) +
                                 " frames in the tables, " + std::to_string(frames) + " frame files");
   }
-  for (std::size_t k = 0; k < frames; ++k) {
-    for (const auto& actor : truth[k].actors) classes[k][actor.id] = actor.class_name;
+  return tables;
+}
+
+// Actor classes per frame, so that ground-truth labels of frames without the field `class` name
+// cars, buses and pedestrians; empty maps for anything that is not a dataset folder.
+std::vector<ActorClasses> actor_classes(const DatasetTables& tables, std::size_t frames) {
+  std::vector<ActorClasses> classes(frames);
+  for (std::size_t k = 0; k < tables.frames.size() && k < frames; ++k) {
+    for (const auto& actor : tables.frames[k].actors) classes[k][actor.id] = actor.class_name;
   }
   return classes;
 }
+
+// --to openpcdet takes its boxes from a dataset's objects.csv: anything else is refused before
+// a file is written, naming the input and what it lacks.
+void require_dataset_with_boxes(const InputFlags& flags, const DatasetTables& tables) {
+  const std::string& input = flags.path;
+  const std::string needs =
+      "--to openpcdet needs a dataset written by fmcw simulate (dataset.yaml, ego.csv and objects.csv with the box "
+      "columns, beside frames/)";
+  if (flags.format != "pcd") {
+    throw std::invalid_argument(input + ": --to openpcdet reads a dataset's own frames (--format pcd), not --format " +
+                                flags.format);
+  }
+  const fs::path dir(input);
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) {
+    throw std::invalid_argument(input + ": not a dataset folder (no objects.csv, no boxes): " + needs);
+  }
+  for (const char* table : {"dataset.yaml", "ego.csv", "objects.csv"}) {
+    if (!fs::exists(dir / table, ec)) {
+      throw std::invalid_argument((dir / table).string() + ": missing, so " + input + " is not a dataset: " + needs);
+    }
+  }
+  if (!tables.boxes) {
+    throw std::invalid_argument((dir / "objects.csv").string() +
+                                ": no box columns (box_x_m ... box_world_yaw_rad): the dataset was written before "
+                                "boxes were; simulate it again to export it to OpenPCDet");
+  }
+}
+
+// What an export writes, taken back unless it completes: a failed export (a frame that cannot be
+// read or lacks a field, a full disk) leaves neither part of a set of files nor the folders it
+// made for them. Files of an earlier export that this one did not write again stay.
+class ExportOutput {
+ public:
+  ExportOutput() = default;
+  ExportOutput(const ExportOutput&) = delete;
+  ExportOutput& operator=(const ExportOutput&) = delete;
+  ~ExportOutput() {
+    if (complete_) return;
+    if (!files_.empty()) {
+      std::cerr << "fmcw: note: the export failed; removing the " << files_.size() << " files it wrote\n";
+    }
+    std::error_code ec;
+    for (auto f = files_.rbegin(); f != files_.rend(); ++f) fs::remove(*f, ec);
+    for (auto d = folders_.rbegin(); d != folders_.rend(); ++d) fs::remove(*d, ec);  // only when empty
+  }
+
+  /// Creates dir and its missing parents (remembered, to be removed again).
+  void folder(const fs::path& dir) {
+    std::vector<fs::path> missing;
+    std::error_code ec;
+    for (fs::path p = dir; !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+      missing.push_back(p);
+      if (p == p.parent_path()) break;
+    }
+    io::ensure_writable_directory(dir.string());
+    folders_.insert(folders_.end(), missing.rbegin(), missing.rend());
+  }
+  /// A file written whole.
+  void wrote(const fs::path& file) { files_.push_back(file); }
+  void complete() { complete_ = true; }
+
+ private:
+  std::vector<fs::path> files_;
+  std::vector<fs::path> folders_;  ///< outermost first
+  bool complete_ = false;
+};
 
 // The cloud to export: a PCD as it is (every field, every type), other inputs as the organized
 // scan the core would see.
@@ -61,13 +142,21 @@ int run_export(const ExportOptions& opt) {
   const io::LabelSource label_source = io::parse_label_source(opt.labels);
   if (!(opt.doppler_scale_mps > 0.0)) throw std::invalid_argument("--doppler-scale must be > 0 m/s");
   const std::vector<std::string> files = io::list_input_files(opt.input.path, input.format);
-  const std::vector<ActorClasses> classes = dataset_actor_classes(opt.input.path, files.size());
+  const DatasetTables tables = read_dataset_tables(opt.input.path, files.size());
+  if (opt.to == "openpcdet") require_dataset_with_boxes(opt.input, tables);
+  const std::vector<ActorClasses> classes = actor_classes(tables, files.size());
   const fs::path out_dir(opt.output);
-  io::ensure_writable_directory(opt.output);
+  ExportOutput output;
+  output.folder(out_dir);
   if (opt.to == "kitti") {
-    io::ensure_writable_directory((out_dir / "velodyne").string());
-    io::ensure_writable_directory((out_dir / "labels").string());
+    output.folder(out_dir / "velodyne");
+    output.folder(out_dir / "labels");
+  } else if (opt.to == "openpcdet") {
+    output.folder(out_dir / "points");
+    output.folder(out_dir / "labels");
+    output.folder(out_dir / "ImageSets");
   }
+  std::vector<std::string> frame_ids;
   for (std::size_t k = 0; k < files.size(); ++k) {
     const std::string& file = files[k];
     const std::string stem = fs::path(file).stem().string();
@@ -78,34 +167,68 @@ int run_export(const ExportOptions& opt) {
       std::vector<io::Rgb> colors;
       if (opt.color == "doppler") colors = io::doppler_colors(cloud, opt.doppler_scale_mps, file);
       if (opt.color == "label") colors = io::label_colors(io::point_labels(cloud, label_source, classes[k], file));
+      if (opt.color == "class") colors = io::class_colors(cloud, file);
       written = (out_dir / (stem + ".ply")).string();
       points = io::write_ply(written, cloud, colors);
+      output.wrote(written);
     } else if (opt.to == "kitti") {
       const io::PointLabels labels = io::point_labels(cloud, label_source, classes[k], file);
       written = (out_dir / "velodyne" / (stem + ".bin")).string();
-      points = io::write_semantic_kitti(written, (out_dir / "labels" / (stem + ".label")).string(), cloud, labels, file);
+      const std::string label_file = (out_dir / "labels" / (stem + ".label")).string();
+      points = io::write_semantic_kitti(written, label_file, cloud, labels, file);
+      output.wrote(written);
+      output.wrote(label_file);
       written += " + .label";
+    } else if (opt.to == "openpcdet") {
+      written = (out_dir / "points" / (stem + ".npy")).string();
+      const std::string label_file = (out_dir / "labels" / (stem + ".txt")).string();
+      points = io::write_openpcdet_frame(written, label_file, cloud, tables.frames[k], file);
+      output.wrote(written);
+      output.wrote(label_file);
+      frame_ids.push_back(stem);
+      written += " + labels/" + stem + ".txt";
     } else {
       written = (out_dir / (stem + ".pcd")).string();
       io::write_pcd(written, cloud);
+      output.wrote(written);
       points = cloud.points();
     }
     std::cerr << "[" << k + 1 << "/" << files.size() << "] " << file << " -> " << written << " (" << points
               << " points)\n";
   }
+  if (opt.to == "openpcdet") {
+    // The index last: a reader that finds it finds every frame it lists.
+    const fs::path split = out_dir / "ImageSets" / "train.txt";
+    io::write_openpcdet_split(split.string(), frame_ids);
+    output.wrote(split);
+    const fs::path meta = out_dir / "meta.json";
+    io::write_openpcdet_meta(meta.string(), frame_ids, tables.frames, opt.input.path);
+    output.wrote(meta);
+    std::cerr << "wrote " << split.string() << " and " << meta.string() << " (" << frame_ids.size() << " frames)\n";
+    std::size_t without_boxes = 0;
+    for (const core::FrameTruth& t : tables.frames) without_boxes += io::openpcdet_boxes(t).empty() ? 1 : 0;
+    if (without_boxes > 0) {
+      std::cerr << "fmcw: note: " << without_boxes << " of " << frame_ids.size()
+                << " frames have no box (an empty labels/ID.txt); OpenPCDet's stock custom dataset expects at least "
+                   "one per frame (docs/FORMATS.md, OpenPCDet)\n";
+    }
+  }
+  output.complete();
   return 0;
 }
 }  // namespace
 
 Action add_export_command(CLI::App& app) {
   auto opt = std::make_shared<ExportOptions>();
-  CLI::App* cmd = app.add_subcommand("export", "Write frames as PLY, SemanticKITTI .bin/.label or PCD");
+  CLI::App* cmd = app.add_subcommand("export", "Write frames as PLY, SemanticKITTI .bin/.label, PCD or OpenPCDet's layout");
   cmd->add_option("-o,--output", opt->output, "Output folder")->required();
-  cmd->add_option("--to", opt->to, "ply, kitti (velodyne/NAME.bin + labels/NAME.label) or pcd")
+  cmd->add_option("--to", opt->to,
+                  "ply, kitti (velodyne/NAME.bin + labels/NAME.label), pcd, or openpcdet (points/NAME.npy + "
+                  "labels/NAME.txt + ImageSets/train.txt + meta.json; datasets only)")
       ->required()
-      ->check(CLI::IsMember({"ply", "kitti", "pcd"}));
-  cmd->add_option("--color", opt->color, "ply: colour by doppler, label, or none")
-      ->check(CLI::IsMember({"doppler", "label", "none"}));
+      ->check(CLI::IsMember({"ply", "kitti", "pcd", "openpcdet"}));
+  cmd->add_option("--color", opt->color, "ply: colour by doppler, label (instances), class (semantic classes), or none")
+      ->check(CLI::IsMember({"doppler", "label", "class", "none"}));
   cmd->add_option("--labels", opt->labels, "Labels from: auto (estimate if the cloud has 'label', else truth), estimate, truth")
       ->check(CLI::IsMember({"auto", "estimate", "truth"}));
   cmd->add_option("--doppler-scale", opt->doppler_scale_mps, "ply: Doppler [m/s] shown fully red (+) or blue (-)");
