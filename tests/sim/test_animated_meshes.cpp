@@ -83,43 +83,21 @@ TEST_F(AnimatedMeshes, ALinearClipTurningANodeGivesTheDopplerOfItsRotation) {
 
 TEST_F(AnimatedMeshes, ABendingTwoBoneStripMovesAsTheAnalyticBlendOfItsBones) {
   const Strip strip = two_bone_strip();
-  GltfBuilder b;
-  const int root = b.add_node("rig");
-  const int bone0 = b.add_node("bone0", root);
-  const int bone1 = b.add_node("bone1", bone0, Eigen::Vector3d(0, 1, 0));
-  const int mesh_node = b.add_node("strip", root);
-  const int mesh = b.add_mesh(mesh_node, strip.vertices, strip.indices);
-  std::vector<std::vector<std::pair<int, float>>> influences;
-  for (const double w : strip.w1) influences.push_back({{0, static_cast<float>(1.0 - w)}, {1, static_cast<float>(w)}});
-  b.set_skin_weights(mesh, influences);
-  b.attach_skin(mesh_node, b.add_skin({bone0, bone1}));
   const double omega = 0.8;
-  std::vector<float> times;
-  const std::vector<float> values = turn_keys(omega, 0.25, 2.0, times);
-  b.add_channel(b.add_animation("bend"), bone1, "rotation", "LINEAR", times, values);
+  GltfBuilder b = test::bending_strip(strip, omega);
   b.write_glb(path("strip.glb"));
   auto asset = std::make_shared<const MeshAsset>(load_mesh_asset(path("strip.glb"), {}, 0.3f));
   const Eigen::Vector3d place(6.0, -1.0, 0.5);
   auto scene = scene_with(asset, at(place.x(), place.y(), place.z()), 0);
   const double t = 0.6;
   scene->set_time(t);
-  // Analytic vertices: p = w0 v + w1 (c + R (v - c)), dp/dt = w1 omega z x R (v - c), c = (0, 1, 0).
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(omega * t, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  const Eigen::Vector3d c(0, 1, 0);
-  std::vector<Eigen::Vector3d> p(strip.vertices.size()), p_dot(strip.vertices.size());
-  for (std::size_t k = 0; k < p.size(); ++k) {
-    const Eigen::Vector3d v = strip.vertices[k].cast<double>();
-    p[k] = place + (1.0 - strip.w1[k]) * v + strip.w1[k] * (c + R * (v - c));
-    p_dot[k] = strip.w1[k] * Eigen::Vector3d(0, 0, omega).cross(R * (v - c));
-  }
-  const Eigen::Vector3f origin(0, 0, 0.5);
-  std::vector<Eigen::Vector3f> dirs;
-  for (int i = 0; i < 60; ++i) {
-    for (int j = 0; j < 12; ++j) dirs.push_back((Eigen::Vector3f(6.0f, -1.1f + 0.04f * i, 0.1f + 0.07f * j) - origin).normalized());
-  }
-  std::vector<RayHit> hits(dirs.size());
-  scene->intersect(SceneLayer::kStatic, origin, dirs.data(), nullptr, dirs.size(), 0.1f, 100.0f, hits.data());
-  scene->intersect(SceneLayer::kActors, origin, dirs.data(), nullptr, dirs.size(), 0.1f, 100.0f, hits.data());
+  const test::StripMotion analytic = test::strip_motion(strip, place, omega, t);
+  const std::vector<Eigen::Vector3d>& p = analytic.p;
+  const std::vector<Eigen::Vector3d>& p_dot = analytic.p_dot;
+  const test::StripRays rays = test::cast_at_strip(*scene);
+  const Eigen::Vector3f& origin = rays.origin;
+  const std::vector<Eigen::Vector3f>& dirs = rays.dirs;
+  const std::vector<RayHit>& hits = rays.hits;
   int checked = 0, bent = 0;
   for (std::size_t k = 0; k < hits.size(); ++k) {
     if (!std::isfinite(hits[k].distance_m)) continue;

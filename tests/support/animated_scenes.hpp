@@ -10,6 +10,7 @@
 
 #include "fmcw/core/head_model.hpp"
 #include "fmcw/sim/scene.hpp"
+#include "support/gltf_builder.hpp"
 #include "support/sim_scenes.hpp"
 
 namespace fmcw::test {
@@ -84,6 +85,60 @@ inline Strip two_bone_strip() {
     s.indices.insert(s.indices.end(), {a, c, b, b, c, d});
   }
   return s;
+}
+
+// The strip's vertices and their velocities in closed form, placed at `place`, bone 1 turned by
+// omega t about +z: p = w0 v + w1 (c + R (v - c)), dp/dt = w1 omega z x R (v - c), c = (0, 1, 0).
+struct StripMotion {
+  std::vector<Eigen::Vector3d> p, p_dot;
+};
+inline StripMotion strip_motion(const Strip& strip, const Eigen::Vector3d& place, double omega, double t) {
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(omega * t, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d c(0, 1, 0);
+  StripMotion m;
+  for (std::size_t k = 0; k < strip.vertices.size(); ++k) {
+    const Eigen::Vector3d v = strip.vertices[k].cast<double>();
+    m.p.push_back(place + (1.0 - strip.w1[k]) * v + strip.w1[k] * (c + R * (v - c)));
+    m.p_dot.push_back(strip.w1[k] * Eigen::Vector3d(0, 0, omega).cross(R * (v - c)));
+  }
+  return m;
+}
+
+// A grid of rays from (0, 0, 0.5) over a strip placed at (6, -1, 0.5), and where they hit.
+struct StripRays {
+  Eigen::Vector3f origin{0.0f, 0.0f, 0.5f};
+  std::vector<Eigen::Vector3f> dirs;
+  std::vector<sim::RayHit> hits;
+};
+inline StripRays cast_at_strip(const sim::Scene& scene) {
+  StripRays r;
+  for (int i = 0; i < 60; ++i) {
+    for (int j = 0; j < 12; ++j) r.dirs.push_back((Eigen::Vector3f(6.0f, -1.1f + 0.04f * i, 0.1f + 0.07f * j) - r.origin).normalized());
+  }
+  r.hits.resize(r.dirs.size());
+  scene.intersect(sim::SceneLayer::kStatic, r.origin, r.dirs.data(), nullptr, r.dirs.size(), 0.1f, 100.0f, r.hits.data());
+  scene.intersect(sim::SceneLayer::kActors, r.origin, r.dirs.data(), nullptr, r.dirs.size(), 0.1f, 100.0f, r.hits.data());
+  return r;
+}
+
+// The strip as a glTF: root "rig" holding bone0 (bone1 at y = 1 under it) and the skinned node
+// "strip", bound at the rest pose; a LINEAR clip "bend" turns bone1 about +z at omega [rad/s],
+// keyed every 0.25 s over [0, 2] s.
+inline GltfBuilder bending_strip(const Strip& strip, double omega) {
+  GltfBuilder b;
+  const int root = b.add_node("rig");
+  const int bone0 = b.add_node("bone0", root);
+  const int bone1 = b.add_node("bone1", bone0, Eigen::Vector3d(0, 1, 0));
+  const int mesh_node = b.add_node("strip", root);
+  const int mesh = b.add_mesh(mesh_node, strip.vertices, strip.indices);
+  std::vector<std::vector<std::pair<int, float>>> influences;
+  for (const double w : strip.w1) influences.push_back({{0, static_cast<float>(1.0 - w)}, {1, static_cast<float>(w)}});
+  b.set_skin_weights(mesh, influences);
+  b.attach_skin(mesh_node, b.add_skin({bone0, bone1}));
+  std::vector<float> times;
+  const std::vector<float> values = turn_keys(omega, 0.25, 2.0, times);
+  b.add_channel(b.add_animation("bend"), bone1, "rotation", "LINEAR", times, values);
+  return b;
 }
 
 }  // namespace fmcw::test
