@@ -1,5 +1,6 @@
 #include "fmcw/sim/scenario.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -528,6 +529,21 @@ LoadedScenario load_scenario_unchecked(const std::string& path) {
         where.fail(e.what());
       }
       loaded.notices.insert(loaded.notices.end(), it->second->notices.begin(), it->second->notices.end());
+      // Class-table parts that name neither a node nor a material of the mesh classify nothing.
+      const auto table = s.mesh_classes.find(fs::path(o.mesh_path).filename().string());
+      if (table != s.mesh_classes.end()) {
+        const MeshAsset& asset = *it->second;
+        std::string unused;
+        for (const auto& [part, name] : table->second.parts) {
+          if (asset.find_part(part) < 0 && std::find(asset.materials.begin(), asset.materials.end(), part) == asset.materials.end()) {
+            unused += (unused.empty() ? "'" : ", '") + part + "'";
+          }
+        }
+        if (!unused.empty()) {
+          loaded.notices.push_back(s.classes_file + ": meshes." + table->first + ".parts: " + unused +
+                                   " name no node or material of mesh '" + o.mesh_path + "': not used");
+        }
+      }
     }
     resolve_animation(o, *it->second, where, said, loaded.notices);
     return it->second;

@@ -225,6 +225,13 @@ TEST_F(ClassTables, UnknownClassesAndClashingIdsNameTheFileAndKey) {
   write("badpart.yaml", "meshes:\n  tree.gltf: {parts: {bark: wood}}\n");
   EXPECT_NE(error("classes: badpart.yaml\n").find("badpart.yaml:2: meshes.tree.gltf.parts.bark: unknown class 'wood'"),
             std::string::npos);
+  // A part that names nothing in the mesh is said once, not dropped silently.
+  write("leaves.yaml", "meshes:\n  tree.gltf: {class: vegetation, parts: {bark: trunk, leaves: vegetation}}\n");
+  const LoadedScenario trees = load_scenario(write("t.yaml", "classes: leaves.yaml\nstatic:\n  - {mesh: " + tree +
+                                                                   "}\n  - {mesh: " + tree + ", pose: {x: 5}}\n"));
+  ASSERT_EQ(trees.notices.size(), 1u);
+  EXPECT_NE(trees.notices[0].find("meshes.tree.gltf.parts: 'leaves' name no node or material of mesh"), std::string::npos)
+      << trees.notices[0];
   write("typo.yaml", "mesh:\n  tree.gltf: {class: vegetation}\n");
   EXPECT_NE(error("classes: typo.yaml\n").find("unknown key 'mesh'"), std::string::npos);
   EXPECT_NE(error("classes: none.yaml\n").find("class table"), std::string::npos);
