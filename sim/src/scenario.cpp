@@ -69,6 +69,7 @@ TrajectorySpec read_trajectory(const YamlValue& value) {
     const YamlValue speeds = m.at("speed_mps");
     t.path.speeds_mps = speeds.as_doubles();
     t.path.start_time_s = m.get("start_time_s", 0.0);
+    if (m.has("wait_s")) t.path.waits_s = m.at("wait_s").as_doubles();
     try {
       make_waypoint_trajectory(t.path);  // checks points and speeds
     } catch (const std::invalid_argument& e) {
@@ -350,6 +351,7 @@ void emit_trajectory(YAML::Emitter& out, const TrajectorySpec& t) {
     for (const auto& p : t.path.points_m) out << YAML::Flow << std::vector<double>{p.x(), p.y(), p.z()};
     out << YAML::EndSeq << YAML::Key << "speed_mps" << YAML::Value << YAML::Flow << t.path.speeds_mps << YAML::Key
         << "start_time_s" << YAML::Value << t.path.start_time_s;
+    if (!t.path.waits_s.empty()) out << YAML::Key << "wait_s" << YAML::Value << YAML::Flow << t.path.waits_s;
   } else {
     out << YAML::Key << "pose" << YAML::Value;
     emit_pose(out, t.pose);

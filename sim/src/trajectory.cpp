@@ -286,7 +286,8 @@ ArcSample arc_sample(const SplineSpan& span, double d) {
 
 class WaypointTrajectory final : public Trajectory {
  public:
-  explicit WaypointTrajectory(const WaypointPath& path) : start_time_s_(path.start_time_s) {
+  explicit WaypointTrajectory(const WaypointPath& path)
+      : start_time_s_(path.start_time_s + (path.waits_s.empty() ? 0.0 : path.waits_s.front())) {
     spans_ = natural_spline(path.points_m);
     build_arc_table();
     check_heading_defined();
@@ -306,7 +307,8 @@ class WaypointTrajectory final : public Trajectory {
     const auto after = std::upper_bound(span_begin_s_.begin() + 1, span_begin_s_.end() - 1, tau);
     const auto k = static_cast<std::size_t>(after - span_begin_s_.begin()) - 1;
     const TimedSpan& timed = timed_spans_[k];
-    const auto [s_in_span, speed] = travel(timed, tau - span_begin_s_[k]);
+    // Past the span's own duration the body waits at the span's end (a stop with wait_s), at rest.
+    const auto [s_in_span, speed] = travel(timed, std::min(tau - span_begin_s_[k], timed.duration_s));
     const double s = timed.s_begin_m + s_in_span;
 
     const auto [sample, u, du_ds] = parameter_at(s);
@@ -391,6 +393,7 @@ class WaypointTrajectory final : public Trajectory {
       timed_spans_.push_back(make_timed_span(s0, s1 - s0, speed_at(i), speed_at(i + 1)));
       span_begin_s_.push_back(t);
       t += timed_spans_.back().duration_s;
+      if (!path.waits_s.empty() && i + 2 < n) t += path.waits_s[i + 1];  // the wait at point i + 1
     }
     span_begin_s_.push_back(t);
   }
@@ -474,6 +477,16 @@ void check_waypoint_path(const WaypointPath& path) {
   if (speeds.size() == 1) {
     FMCW_CHECK_ARG(speeds.front() > 0.0,
                    "waypoint path: the single speed is 0 m/s, so the body could never move");
+  }
+  const std::vector<double>& waits = path.waits_s;
+  FMCW_CHECK_ARG(waits.empty() || waits.size() == points.size(), "waypoint path: ", waits.size(),
+                 " waits for ", points.size(), " points; give one wait per point or none");
+  for (std::size_t i = 0; i < waits.size(); ++i) {
+    FMCW_CHECK_ARG(std::isfinite(waits[i]) && waits[i] >= 0.0 && waits[i] <= 1e6, "waypoint path: wait ", i,
+                   " is ", waits[i], " s; waits must be finite, >= 0 and at most 1e6 s");
+    const double speed = speeds.size() == 1 ? speeds.front() : speeds[i];
+    FMCW_CHECK_ARG(waits[i] == 0.0 || speed == 0.0, "waypoint path: wait ", i, " is ", waits[i],
+                   " s at a point passed at ", speed, " m/s; the body can only wait where its speed is 0");
   }
   for (std::size_t i = 0; i + 1 < speeds.size(); ++i) {
     FMCW_CHECK_ARG(speeds[i] > 0.0 || speeds[i + 1] > 0.0, "waypoint path: speeds at points ", i,

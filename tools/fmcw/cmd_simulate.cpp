@@ -1,10 +1,15 @@
 // fmcw simulate SCENARIO.yaml -o DIR: a synthetic FMCW dataset with ground truth.
 
 #include <csignal>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 
 #include "commands.hpp"
+#include "fmcw/io/atomic_file.hpp"
 #include "fmcw/sim/dataset_writer.hpp"
+#include "fmcw/sim/scenario_generator.hpp"
+#include <sstream>
 #include "progress.hpp"
 
 namespace fmcw::cli {
@@ -16,6 +21,7 @@ struct SimulateOptions {
   sim::DatasetOptions dataset;
   std::uint64_t seed = 0;
   std::string shard;
+  std::string task;
 };
 
 volatile std::sig_atomic_t g_stop_signal = 0;
@@ -34,7 +40,7 @@ void install_stop_handlers() {
 }
 
 // "i/n" -> (i, n); std::invalid_argument naming the option otherwise.
-std::pair<int, int> parse_shard(const std::string& text) {
+std::pair<int, int> parse_shard(const std::string& text, const std::string& option) {
   const std::size_t slash = text.find('/');
   int i = -1, n = 0;
   try {
@@ -48,9 +54,64 @@ std::pair<int, int> parse_shard(const std::string& text) {
     n = 0;
   }
   if (n < 1 || i < 0 || i >= n) {
-    throw std::invalid_argument("--shard '" + text + "': expected I/N with 0 <= I < N, e.g. 0/4 for the first of four");
+    throw std::invalid_argument(option + " '" + text + "': expected I/N with 0 <= I < N, e.g. 0/4 for the first of four");
   }
   return {i, n};
+}
+
+// Simulates one scenario into opt.dataset.output_dir; the exit status.
+int simulate_one(const std::string& scenario, sim::DatasetOptions options) {
+  const sim::LoadedScenario loaded = sim::load_scenario(scenario);
+  say_notices(loaded.notices);
+  options.stop_requested = [] { return g_stop_signal != 0; };
+  Progress progress("simulate " + loaded.scenario.name);
+  const sim::DatasetSummary summary =
+      sim::write_dataset(loaded, options, [&](int done, int total) { progress.update(done, total); });
+  const std::string& dir = options.output_dir;
+  if (summary.interrupted) {
+    std::cerr << "fmcw: interrupted by " << (g_stop_signal == SIGTERM ? "SIGTERM" : "SIGINT") << ": " << dir << " holds "
+              << summary.frames_written << " of " << summary.frames_total
+              << " frames, all whole (dataset.yaml says so); continue with the same command and --resume\n";
+    return 128 + static_cast<int>(g_stop_signal);
+  }
+  if (summary.frames_total > 0 && summary.frames_resumed == summary.frames_total) {
+    std::cerr << dir << " is complete already (" << summary.frames_total << " frames)\n";
+    return 0;
+  }
+  std::cerr << "wrote " << summary.frames_written - summary.frames_resumed << " frames to " << dir;
+  if (summary.frames_resumed > 0) std::cerr << " after the " << summary.frames_resumed << " found there";
+  std::cerr << " in " << summary.seconds << " s (" << summary.returns << " returns)\n";
+  return 0;
+}
+
+// A set written by fmcw generate: every scenario of the manifest (or of task I of N: those whose
+// row number is I modulo N) into OUTPUT/<name>/, and the manifest beside them.
+int simulate_set(const SimulateOptions& opt) {
+  const std::filesystem::path set(opt.scenario);
+  const std::vector<sim::SetEntry> scenarios = sim::read_set_manifest((set / "manifest.csv").string());
+  int task = 0, tasks = 1;
+  if (!opt.task.empty()) std::tie(task, tasks) = parse_shard(opt.task, "--task");
+  {
+    // The manifest beside the datasets, for fmcw evaluate over the folder; every task writes
+    // the same bytes, atomically.
+    std::ifstream in(set / "manifest.csv", std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    io::ensure_writable_directory(opt.dataset.output_dir);
+    io::write_file_atomically(opt.dataset.output_dir + "/manifest.csv", [&](std::ostream& os) { os << text.str(); });
+  }
+  int done = 0;
+  for (std::size_t k = 0; k < scenarios.size(); ++k) {
+    if (static_cast<int>(k % static_cast<std::size_t>(tasks)) != task) continue;
+    sim::DatasetOptions options = opt.dataset;
+    options.output_dir = opt.dataset.output_dir + "/" + scenarios[k].name;
+    const int status = simulate_one((set / scenarios[k].file).string(), options);
+    if (status != 0) return status;
+    ++done;
+  }
+  std::cerr << "simulated " << done << " of the set's " << scenarios.size() << " scenarios into " << opt.dataset.output_dir
+            << (tasks > 1 ? " (task " + std::to_string(task) + " of " + std::to_string(tasks) + ")" : std::string()) << "\n";
+  return 0;
 }
 
 }  // namespace
@@ -58,7 +119,7 @@ std::pair<int, int> parse_shard(const std::string& text) {
 Action add_simulate_command(CLI::App& app) {
   auto opt = std::make_shared<SimulateOptions>();
   CLI::App* cmd = app.add_subcommand("simulate", "Simulate a scenario into a dataset (PCD frames + ground truth)");
-  cmd->add_option("scenario", opt->scenario, "Scenario YAML file")->required();
+  cmd->add_option("scenario", opt->scenario, "Scenario YAML file, or a set folder written by fmcw generate")->required();
   cmd->add_option("-o,--output", opt->dataset.output_dir, "Output dataset folder")->required();
   cmd->add_option("--frames", opt->dataset.frames, "Frames to simulate (default: the scenario's)")->check(CLI::PositiveNumber);
   CLI::Option* seed = cmd->add_option("--seed", opt->seed, "Noise seed (default: the scenario's)");
@@ -70,33 +131,21 @@ Action add_simulate_command(CLI::App& app) {
       ->excludes(overwrite);
   cmd->add_option("--shard", opt->shard,
                   "Write only part I of N of the dataset (frames I*F/N to (I+1)*F/N); join the parts with fmcw merge");
+  cmd->add_option("--task", opt->task,
+                  "With a set: simulate only the scenarios of task I of N (row number modulo N), e.g. "
+                  "$SLURM_ARRAY_TASK_ID/N");
   return [opt, seed] {
     opt->dataset.override_seed = seed->count() > 0;
     opt->dataset.seed = opt->seed;
     opt->dataset.tool_version = FMCW_VERSION;
-    if (!opt->shard.empty()) std::tie(opt->dataset.shard_index, opt->dataset.shard_count) = parse_shard(opt->shard);
-    const sim::LoadedScenario loaded = sim::load_scenario(opt->scenario);
-    say_notices(loaded.notices);
+    if (!opt->shard.empty()) std::tie(opt->dataset.shard_index, opt->dataset.shard_count) = parse_shard(opt->shard, "--shard");
     install_stop_handlers();
-    opt->dataset.stop_requested = [] { return g_stop_signal != 0; };
-    Progress progress("simulate " + loaded.scenario.name);
-    const sim::DatasetSummary summary =
-        sim::write_dataset(loaded, opt->dataset, [&](int done, int total) { progress.update(done, total); });
-    const std::string& dir = opt->dataset.output_dir;
-    if (summary.interrupted) {
-      std::cerr << "fmcw: interrupted by " << (g_stop_signal == SIGTERM ? "SIGTERM" : "SIGINT") << ": " << dir << " holds "
-                << summary.frames_written << " of " << summary.frames_total
-                << " frames, all whole (dataset.yaml says so); continue with the same command and --resume\n";
-      return 128 + static_cast<int>(g_stop_signal);
+    if (std::filesystem::is_directory(opt->scenario)) {
+      if (!opt->shard.empty()) throw std::invalid_argument("--shard is for one scenario; a set is split with --task I/N");
+      return simulate_set(*opt);
     }
-    if (summary.frames_total > 0 && summary.frames_resumed == summary.frames_total) {
-      std::cerr << dir << " is complete already (" << summary.frames_total << " frames)\n";
-      return 0;
-    }
-    std::cerr << "wrote " << summary.frames_written - summary.frames_resumed << " frames to " << dir;
-    if (summary.frames_resumed > 0) std::cerr << " after the " << summary.frames_resumed << " found there";
-    std::cerr << " in " << summary.seconds << " s (" << summary.returns << " returns)\n";
-    return 0;
+    if (!opt->task.empty()) throw std::invalid_argument("--task is for a set folder written by fmcw generate");
+    return simulate_one(opt->scenario, opt->dataset);
   };
 }
 

@@ -23,6 +23,7 @@ Action add_evaluate_command(CLI::App& app);
 Action add_run_command(CLI::App& app);
 Action add_study_command(CLI::App& app);
 Action add_export_command(CLI::App& app);
+Action add_generate_command(CLI::App& app);
 
 /// Says once, on stderr, what the input's files hold that the run does not use.
 inline void say_notices(const std::vector<std::string>& notices) {

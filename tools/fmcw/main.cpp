@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
     fmcw::cli::Action action = add(app);
     actions[app.get_subcommands({}).at(before)] = std::move(action);
   };
+  reg(fmcw::cli::add_generate_command);
   reg(fmcw::cli::add_simulate_command);
   reg(fmcw::cli::add_merge_command);
   reg(fmcw::cli::add_process_command);

@@ -64,6 +64,11 @@ struct WaypointPath {
   /// at rest, with continuous velocity.
   std::vector<double> speeds_mps;
   double start_time_s = 0.0;  ///< before this, the body waits at the first point
+  /// Time the body stands still at each waypoint before it goes on [s]: empty (no waits) or one
+  /// value per point, each finite and >= 0; a wait > 0 needs the speed 0 at that point (the
+  /// body arrives there at rest, so its velocity stays continuous). A wait at the last point
+  /// changes nothing: the body rests there anyway.
+  std::vector<double> waits_s;
   // From start_time_s on it moves (at the first speed); after the end of the path it stays at
   // the last point, at rest.
 };
