@@ -8,15 +8,16 @@
 
 #include "fmcw/eval/table_writer.hpp"
 #include "fmcw/io/atomic_file.hpp"
+#include "report_json.hpp"
 
 namespace fmcw::eval {
 
 namespace fs = std::filesystem;
-using json = nlohmann::ordered_json;
+using json = report_json::json;
+using report_json::number;
+using report_json::vec;
 
 namespace {
-json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
-json vec(const Eigen::Vector3d& v) { return json::array({number(v.x()), number(v.y()), number(v.z())}); }
 json timing(const core::StageTiming& t) {
   return {{"clustering", number(t.clustering_ms)},
           {"ego", number(t.ego_ms)},
@@ -35,14 +36,7 @@ json method_json(const MethodSummary& s, const std::vector<TargetCheck>& checks)
   return {
       {"frames", s.frames},
       {"frames_not_ok", s.frames_not_ok},
-      {"motion",
-       {{"precision", number(s.motion.precision())},
-        {"recall", number(s.motion.recall())},
-        {"accuracy", number(s.motion.accuracy())},
-        {"tp", s.motion.tp},
-        {"fp", s.motion.fp},
-        {"tn", s.motion.tn},
-        {"fn", s.motion.fn}}},
+      {"motion", report_json::motion(s.motion)},
       {"ego_velocity",
        {{"rmse_mps", vec(s.ego_rmse_mps)},
         {"max_abs_mps", vec(s.ego_max_abs_mps)},
@@ -178,7 +172,6 @@ void write_snapshot(const std::string& dir, const EvaluationResult& r) {
 std::string metrics_json(const EvaluationResult& r, const std::string& tool_version) {
   json methods = json::object();
   for (std::size_t m = 0; m < r.methods.size(); ++m) methods[r.methods[m]] = method_json(r.summaries[m], r.checks[m]);
-  const Targets& t = r.params.targets;
   const DatasetStats& d = r.dataset;
   json out = {
       {"kind", "evaluation"},
@@ -201,15 +194,7 @@ std::string metrics_json(const EvaluationResult& r, const std::string& tool_vers
         {"mean_ego_speed_mps", d.mean_ego_speed_mps},
         {"actors_seen", d.actors_seen},
         {"seed", r.source.seed}}},
-      {"targets",
-       {{"min_accuracy", t.min_accuracy},
-        {"max_ego_rmse_mps", vec(t.max_ego_rmse_mps)},
-        {"max_median_error_ge200_mps", t.max_median_error_large_mps},
-        {"max_yaw_rate_rmse_dps", t.max_yaw_rate_rmse_dps},
-        {"min_blind_recall", t.min_blind_recall},
-        {"blind_band_mps", r.params.blind_band_mps},
-        {"large_object_pixels", r.params.summary.large_object_pixels},
-        {"min_moving_pixels", r.params.objects.min_moving_pixels}}},
+      {"targets", report_json::held_targets(r.params)},
       {"snapshot_frame", r.snapshot.frame_index},
       {"config", {{"method_seed", r.params.seed}, {"num_threads", r.params.num_threads}, {"scenario_yaml", r.source.config_yaml}}},
       {"files",

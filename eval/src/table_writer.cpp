@@ -40,6 +40,17 @@ CsvTable& CsvTable::add(const std::string& text) {
   return *this;
 }
 
+CsvTable& CsvTable::add_quoted(const std::string& text) {
+  if (text.find_first_of(",\"\n\r") == std::string::npos) {
+    cell(text);
+    return *this;
+  }
+  std::string q = "\"";
+  for (const char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  cell(q + "\"");
+  return *this;
+}
+
 CsvTable& CsvTable::add(double value) {
   cell(format_number(value));
   return *this;

@@ -9,11 +9,11 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <regex>
 #include <set>
 
 #include "fmcw/core/motion_pipeline.hpp"
 #include "support/cli.hpp"
+#include "support/report_files.hpp"
 #include "support/temp_dir.hpp"
 
 namespace {
@@ -21,54 +21,11 @@ namespace {
 namespace fs = std::filesystem;
 
 using fmcw::test::CliResult;
+using fmcw::test::error_lines;
+using fmcw::test::expect_report_figures;
 using fmcw::test::slurp;
 
 CliResult run(const std::string& args) { return fmcw::test::run_cli(args); }
-
-std::vector<std::string> error_lines(const std::string& output) {
-  std::vector<std::string> lines;
-  std::istringstream in(output);
-  for (std::string line; std::getline(in, line);) {
-    if (line.find("error") != std::string::npos) lines.push_back(line);
-  }
-  return lines;
-}
-
-// A PNG starts with its 8-byte signature and an IHDR chunk holding width and height.
-void expect_png(const fs::path& p) {
-  const std::string bytes = slurp(p);
-  ASSERT_GE(bytes.size(), 33u) << p;
-  EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << p;
-  EXPECT_EQ(bytes.substr(12, 4), "IHDR") << p;
-  const auto be32 = [&](std::size_t at) {
-    return (static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[at])) << 24) |
-           (static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[at + 1])) << 16) |
-           (static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[at + 2])) << 8) |
-           static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[at + 3]));
-  };
-  EXPECT_GE(be32(16), 400u) << p << " width";
-  EXPECT_LE(be32(16), 5000u) << p << " width";
-  EXPECT_GE(be32(20), 200u) << p << " height";
-  EXPECT_LE(be32(20), 5000u) << p << " height";
-}
-
-// Every image report.html names exists and is a PNG; returns how many.
-int expect_report_figures(const fs::path& dir) {
-  const std::string html = slurp(dir / "report.html");
-  EXPECT_NE(html.find("</html>"), std::string::npos);
-  const std::regex img("<img src=\"([^\"]+)\"");
-  int count = 0;
-  for (auto it = std::sregex_iterator(html.begin(), html.end(), img); it != std::sregex_iterator(); ++it) {
-    const fs::path png = dir / (*it)[1].str();
-    EXPECT_TRUE(fs::is_regular_file(png)) << png;
-    if (fs::is_regular_file(png)) expect_png(png);
-    ++count;
-  }
-  for (const auto& e : fs::directory_iterator(dir)) {
-    EXPECT_NE(e.path().filename().string().rfind(".tmp.", 0), 0u) << "left behind: " << e.path();
-  }
-  return count;
-}
 
 class EvalCli : public fmcw::test::TempDirTest {
  protected:

@@ -40,6 +40,16 @@ inline std::string slurp(const std::filesystem::path& p) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+/// The lines of a command's output that mention "error".
+inline std::vector<std::string> error_lines(const std::string& output) {
+  std::vector<std::string> lines;
+  std::istringstream in(output);
+  for (std::string line; std::getline(in, line);) {
+    if (line.find("error") != std::string::npos) lines.push_back(line);
+  }
+  return lines;
+}
+
 /// The comma-separated cells of data row k (0 = the first after the header) of a CSV file;
 /// empty when the file has no such row.
 inline std::vector<std::string> csv_row(const std::filesystem::path& p, std::size_t k = 0) {

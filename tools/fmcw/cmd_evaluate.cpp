@@ -1,9 +1,14 @@
 // fmcw evaluate DATASET -o DIR: every motion method on every frame of a simulated dataset,
 // compared with the ground truth; metrics.json, tables, figures and report.html.
+// fmcw evaluate FOLDER -o DIR, FOLDER holding datasets in its subfolders: each evaluated in
+// turn, one aggregate report (eval/aggregate_report.hpp).
 
+#include <filesystem>
 #include <iostream>
+#include <memory>
 
 #include "commands.hpp"
+#include "fmcw/eval/aggregate_report.hpp"
 #include "fmcw/eval/evaluation_report.hpp"
 #include "progress.hpp"
 
@@ -37,10 +42,35 @@ int evaluate_and_report(eval::FrameSource& source, const eval::EvaluationParams&
   return 0;
 }
 
+namespace {
+int evaluate_folder_and_report(const std::string& folder, int frames, const eval::EvaluationParams& params,
+                               const std::string& output, bool no_figures) {
+  eval::ReportOptions report;
+  report.dir = output;
+  report.tool_version = FMCW_VERSION;
+  report.figures = !no_figures;
+  report.script = eval::ReportScriptParams::from_environment(FMCW_REPORT_SCRIPT);
+  std::unique_ptr<Progress> progress;
+  eval::AggregateCallbacks callbacks;
+  callbacks.dataset_started = [&](std::size_t k, std::size_t n, const std::string& name) {
+    progress = std::make_unique<Progress>("evaluate [" + std::to_string(k + 1) + "/" + std::to_string(n) + "] " + name);
+  };
+  callbacks.frame_progress = [&](std::size_t done, std::size_t total) {
+    progress->update(static_cast<int>(done), static_cast<int>(total));
+  };
+  callbacks.notes = say_notices;
+  eval::evaluate_folder_to_report(folder, frames, params, report, callbacks, &std::cerr);
+  std::cerr << "report: " << output << "/" << (no_figures ? "metrics.json" : "report.html") << "\n";
+  return 0;
+}
+}  // namespace
+
 Action add_evaluate_command(CLI::App& app) {
   auto opt = std::make_shared<EvaluateOptions>();
   CLI::App* cmd = app.add_subcommand("evaluate", "Evaluate the motion methods on a simulated dataset against its ground truth");
-  cmd->add_option("dataset", opt->dataset, "Dataset folder written by `fmcw simulate`")->required();
+  cmd->add_option("dataset", opt->dataset,
+                  "Dataset folder written by `fmcw simulate`, or a folder of such datasets (one aggregate report)")
+      ->required();
   cmd->add_option("-o,--output", opt->output, "Report folder")->required();
   cmd->add_option("--methods", opt->methods, "Methods to run, comma-separated (default: all; paper is always included)")
       ->delimiter(',')
@@ -55,6 +85,10 @@ Action add_evaluate_command(CLI::App& app) {
     params.seed = opt->seed;
     params.num_threads = opt->threads;
     params.validate();
+    std::error_code ec;
+    if (std::filesystem::is_directory(opt->dataset, ec) && !eval::is_dataset_folder(opt->dataset)) {
+      return evaluate_folder_and_report(opt->dataset, opt->frames, params, opt->output, opt->no_figures);
+    }
     eval::DatasetSource source(opt->dataset, opt->frames);
     return evaluate_and_report(source, params, opt->output, opt->no_figures);
   };

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
-"""Draws the figures and writes report.html for a folder written by `fmcw evaluate`, `fmcw run`
-or `fmcw study ...`: DIR/metrics.json says which ("kind") and names the tables beside it.
+"""Draws the figures and writes report.html for a folder written by `fmcw evaluate` (of a dataset
+or of a folder of datasets), `fmcw run` or `fmcw study ...`: DIR/metrics.json says which ("kind")
+and names the tables beside it.
 
 Usage: /usr/bin/python3 tools/report/fmcw_report.py DIR
 
@@ -26,6 +27,12 @@ def report_evaluation(out_dir, metrics):
     return evaluation_html.build_html(data, figures), figures
 
 
+def report_aggregate(out_dir, metrics):
+    import aggregate_report
+
+    return aggregate_report.report(out_dir, metrics)
+
+
 def report_study(out_dir, metrics):
     import study_blind_zone
     import study_sweeps
@@ -49,6 +56,8 @@ def main(argv):
         kind = metrics.get("kind")
         if kind == "evaluation":
             page, figures = report_evaluation(out_dir, metrics)
+        elif kind == "aggregate":
+            page, figures = report_aggregate(out_dir, metrics)
         elif kind in ("blind_zone", "threshold", "object_points"):
             page, figures = report_study(out_dir, metrics)
         else:

@@ -15,6 +15,9 @@ class CsvTable {
   explicit CsvTable(const std::vector<std::string>& columns);
 
   CsvTable& add(const std::string& text);  ///< must not hold commas, quotes or newlines
+  /// Text from outside (folder names, manifest cells): quoted as RFC 4180 says when it holds
+  /// a comma, quote or newline (a quote doubled), else written as is.
+  CsvTable& add_quoted(const std::string& text);
   CsvTable& add(double value);
   CsvTable& add(std::int64_t value);
   CsvTable& add(int value) { return add(static_cast<std::int64_t>(value)); }
