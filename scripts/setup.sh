@@ -11,6 +11,9 @@ packages=(
   python3-matplotlib python3-numpy
   # Python bindings and their tests; Open3D and PCL's tools check the exports (tests/python).
   pybind11-dev python3-pytest python3-open3d pcl-tools
+  # A one-node SLURM cluster the array-job test starts on this machine (tests/slurm), with munge
+  # for its authentication; the test runs its own daemons and leaves the system's alone.
+  slurm-wlm munge
 )
 if [ "${1:-}" = "--fuzz" ]; then packages+=(clang-14 libclang-rt-14-dev); fi
 
