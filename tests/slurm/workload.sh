@@ -9,34 +9,43 @@ set -euo pipefail
 fmcw() { "$FMCW_CLI" "$@"; }
 
 # ===== The workload: change these four functions to change what the cluster runs. ===============
-# One scenario, 8 frames, cut into one shard per task, merged and evaluated (docs/SCALING_OUT.md).
-# Planned (issue 17): prepare runs `fmcw generate`, each task simulates its part of the generated
-# set (`--task I/N`), and finish evaluates the folder of datasets.
-scenario=$FMCW_SOURCE_DIR/scenarios/intersection.yaml
-frames=8
+# A generated set of 4 scenarios (fmcw generate), simulated 3 frames each by 4 array tasks (one
+# scenario per task, `--task I/N`), then one aggregate evaluation over the folder of datasets.
+count=4
+frames=3
 
-prepare() { :; }
+prepare() {
+  fmcw generate --count "$count" --seed 1 -o "$OUT/set" 2>&1 | tail -n 1
+}
 
 task() {  # $1: this task's index, $2: the number of tasks
-  fmcw simulate "$scenario" --frames "$frames" --shard "$1/$2" -o "$OUT/shards/$1" --resume \
-    --threads 1
+  fmcw simulate "$OUT/set" -o "$OUT/datasets" --task "$1/$2" --frames "$frames" --threads 1 --resume
 }
 
 finish() {
-  fmcw merge "$OUT"/shards/* -o "$OUT/merged"
-  fmcw evaluate "$OUT/merged" -o "$OUT/report" --no-figures --methods paper,tracked --threads 1
+  fmcw evaluate "$OUT/datasets" -o "$OUT/report" --no-figures --methods paper,tracked --threads 1
 }
 
 check() {
-  # The merged shards are byte for byte what one machine writes (no file left out of the diff).
-  fmcw simulate "$scenario" --frames "$frames" -o "$OUT/direct" 2>&1 | tail -n 1
-  diff -r "$OUT/direct" "$OUT/merged"
-  python3 - "$OUT/report/metrics.json" "$frames" <<'EOF'
-import json, sys
-path, frames = sys.argv[1], int(sys.argv[2])
-report = json.load(open(path))
-assert report["frames"] == frames, f"{path}: {report['frames']} frames, expected {frames}"
-assert report["method_order"] == ["paper", "tracked"], f"{path}: methods {report['method_order']}"
+  # A dataset made by a task is byte for byte what one machine writes for its scenario.
+  fmcw simulate "$OUT/set/scenarios/gen_00002.yaml" --frames "$frames" -o "$OUT/direct" 2>&1 | tail -n 1
+  diff -r "$OUT/direct" "$OUT/datasets/gen_00002"
+  python3 - "$OUT" "$count" "$frames" <<'EOF'
+import csv, json, os, sys
+out, count, frames = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+names = sorted(d for d in os.listdir(os.path.join(out, "datasets")) if not d.endswith(".csv"))
+assert names == ["gen_%05d" % k for k in range(count)], f"datasets: {names}"
+report = json.load(open(os.path.join(out, "report", "metrics.json")))
+assert report["kind"] == "aggregate" and report["complete"], "the aggregate report is not complete"
+assert report["datasets_evaluated"] == count, f"{report['datasets_evaluated']} datasets evaluated, expected {count}"
+assert report["method_order"] == ["paper", "tracked"], f"methods {report['method_order']}"
+for method in ("paper", "tracked"):
+    pooled = report["pooled"][method]
+    assert pooled["scenarios"] == count and pooled["frames"] == count * frames, \
+        f"{method}: {pooled['scenarios']} scenarios, {pooled['frames']} frames"
+rows = list(csv.DictReader(open(os.path.join(out, "report", "scenarios.csv"))))
+assert len(rows) == 2 * count, f"scenarios.csv: {len(rows)} rows, expected {2 * count}"
+assert all(r["layout"] for r in rows), "scenarios.csv: the manifest's layout column is missing"
 EOF
 }
 # ===== End of the workload. ======================================================================

@@ -81,6 +81,7 @@ ClearanceIndex::Placed ClearanceIndex::place(const Footprint& body, double t_s) 
 
 void ClearanceIndex::add_fixed(const Footprint& body) {
   fixed_.push_back(place(body, times_s_.front()));
+  fixed_bounds_.push_back(bounds({fixed_.back()}));
   fixed_names_.push_back(body.what);
 }
 
@@ -104,12 +105,35 @@ ClearanceResult ClearanceIndex::probe(const std::vector<Placed>& path, const std
       r.time_s = times_s_[k];
     }
   };
+  // Bodies whose boxes around all their positions are at least the smallest gap so far apart
+  // cannot come closer: skipping them leaves the result exact.
+  const Eigen::AlignedBox2d reach = bounds(path);
+  std::vector<std::size_t> near_fixed, near_moving;
+  for (std::size_t f = 0; f < fixed_.size(); ++f) {
+    if (box_gap(reach, fixed_bounds_[f]) < r.min_clearance_m) near_fixed.push_back(f);
+  }
+  for (std::size_t m = 0; m < moving_.size(); ++m) {
+    if (box_gap(reach, moving_bounds_[m]) < r.min_clearance_m) near_moving.push_back(m);
+  }
   for (std::size_t k = 0; k < times_s_.size(); ++k) {
-    for (std::size_t f = 0; f < fixed_.size(); ++f) consider(path[k], fixed_[f], fixed_names_[f], k);
-    for (std::size_t m = 0; m < moving_.size(); ++m) consider(path[k], moving_[m][k], moving_names_[m], k);
+    for (std::size_t f : near_fixed) consider(path[k], fixed_[f], fixed_names_[f], k);
+    for (std::size_t m : near_moving) consider(path[k], moving_[m][k], moving_names_[m], k);
     if (r.min_clearance_m < stop_below) return r;
   }
   return r;
+}
+
+Eigen::AlignedBox2d ClearanceIndex::bounds(const std::vector<Placed>& path) {
+  Eigen::AlignedBox2d box;
+  for (const Placed& p : path) {
+    for (const Eigen::Vector2d& c : p.corners) box.extend(c);
+  }
+  return box;
+}
+
+double ClearanceIndex::box_gap(const Eigen::AlignedBox2d& a, const Eigen::AlignedBox2d& b) {
+  const Eigen::Vector2d d = (a.min() - b.max()).cwiseMax(b.min() - a.max()).cwiseMax(0.0);
+  return d.norm();
 }
 
 double ClearanceIndex::gap_to_fixed(const Footprint& body) const {
@@ -123,6 +147,7 @@ double ClearanceIndex::gap_to_fixed(const Footprint& body) const {
 }
 
 void ClearanceIndex::add_moving(std::vector<Placed> path, const std::string& what) {
+  moving_bounds_.push_back(bounds(path));
   moving_.push_back(std::move(path));
   moving_names_.push_back(what);
 }

@@ -36,11 +36,16 @@ class ClearanceIndex {
   static Placed place(const Footprint& body, double t_s);
 
  private:
+  static Eigen::AlignedBox2d bounds(const std::vector<Placed>& path);
+  static double box_gap(const Eigen::AlignedBox2d& a, const Eigen::AlignedBox2d& b);
+
 
   std::vector<double> times_s_;
   std::vector<Placed> fixed_;
   std::vector<std::string> fixed_names_;
+  std::vector<Eigen::AlignedBox2d> fixed_bounds_;
   std::vector<std::vector<Placed>> moving_;
+  std::vector<Eigen::AlignedBox2d> moving_bounds_;
   std::vector<std::string> moving_names_;
 };
 

@@ -208,6 +208,7 @@ struct Placed {
   std::string role;  // mesh role
   Motion motion;
   std::string behaviour;
+  std::shared_ptr<const Trajectory> trajectory;  // made from motion once
 };
 
 // Keeps static objects off the roads, walkways and bays: discs they must not reach into.
@@ -420,7 +421,7 @@ GeneratedScenario generate_scenario(const GeneratorConfig& config, const Generat
         continue;
       }
       index_.add_moving(std::move(path), f.what);
-      actors.push_back({class_name, role, m, behaviour});
+      actors.push_back({class_name, role, m, behaviour, f.motion});
       return true;
     }
     return false;
@@ -559,7 +560,11 @@ GeneratedScenario generate_scenario(const GeneratorConfig& config, const Generat
     e.motion = ego.make();
     moving.push_back(e);
     for (std::size_t k = 0; k < actors.size(); ++k) {
-      moving.push_back(footprint_of(assets.get(actors[k].role), actors[k].motion, "actor " + std::to_string(k + 1)));
+      Footprint f;
+      f.what = "actor " + std::to_string(k + 1);
+      f.box = assets.get(actors[k].role).footprint;
+      f.motion = actors[k].trajectory;
+      moving.push_back(f);
     }
     for (std::size_t k = 0; k < statics.size(); ++k) {
       Footprint f;
