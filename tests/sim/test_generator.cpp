@@ -202,6 +202,12 @@ TEST_F(Generator, MalformedConfigNamesFileLineAndKey) {
                "materials.yaml\nclasses: " + kConfigs + "classes.yaml\n");
   EXPECT_NE(e.find("gen.yaml:1"), std::string::npos) << e;
   EXPECT_NE(e.find("no rig config"), std::string::npos) << e;
+  const std::string bad_rig = write("bad_rig.yaml", "heads: [1, 2]\n");
+  e = error_of("rigs: {" + bad_rig + ": 1}\nassets: " + kAssets + "\nmaterials: " + kAssets +
+               "materials.yaml\nclasses: " + kConfigs + "classes.yaml\n");
+  EXPECT_NE(e.find("gen.yaml:1"), std::string::npos) << e;
+  EXPECT_NE(e.find("the rig config does not load"), std::string::npos) << e;
+  EXPECT_NE(e.find("bad_rig.yaml"), std::string::npos) << e;
   e = error_of(base + "traffic: {vehicles_per_100m: [1, 2, 3]}\n");
   EXPECT_NE(e.find("traffic.vehicles_per_100m"), std::string::npos) << e;
 }

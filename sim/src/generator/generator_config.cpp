@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "fmcw/sim/scenario.hpp"
 #include "fmcw/sim/scenario_generator.hpp"
 #include "fmcw/sim/yaml_reader.hpp"
 #include "layouts.hpp"
@@ -88,6 +89,11 @@ GeneratorConfig GeneratorConfig::load(const std::string& path) {
       const YamlValue name(YAML::Node(rigs.names[k]), root.file(), "rigs." + rigs.names[k]);
       std::string resolved = resolve(name, dir);
       if (!is_existing_file(resolved)) where.fail("no rig config at " + resolved);
+      try {
+        load_rig(resolved);  // a broken rig is this config's error, not every scenario's later
+      } catch (const std::invalid_argument& e) {
+        where.fail(std::string("the rig config does not load: ") + e.what());
+      }
       c.rigs.names.push_back(resolved);
       c.rigs.weights.push_back(rigs.weights[k]);
     }
