@@ -249,3 +249,44 @@ TEST(WaypointWait, StandsStillAtTheStopForItsWaitThenGoesOn) {
 }
 
 }  // namespace
+
+namespace {
+
+class SetManifest : public fmcw::test::TempDirTest {
+ protected:
+  std::string error_of(const std::string& text) {
+    const std::string file = write("manifest.csv", text);
+    try {
+      read_set_manifest(file);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "no error";
+  }
+};
+
+TEST_F(SetManifest, ReadsNamesAndFilesAndRefusesWhatCouldEscapeTheSet) {
+  const std::string file = write("manifest.csv", "name,file,layout\na_1,scenarios/a_1.yaml,junction\nb-2,b.yaml,highway\n");
+  const std::vector<SetEntry> rows = read_set_manifest(file);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[1].name, "b-2");
+  EXPECT_EQ(rows[1].file, "b.yaml");
+  std::string e = error_of("name,file\n../x,x.yaml\n");
+  EXPECT_NE(e.find("manifest.csv:2: name must be"), std::string::npos) << e;
+  e = error_of("name,file\nx,../../etc/passwd\n");
+  EXPECT_NE(e.find("manifest.csv:2: file '../../etc/passwd' must be a path inside the set folder"), std::string::npos) << e;
+  e = error_of("name,file\nx,/etc/passwd\n");
+  EXPECT_NE(e.find("must be a path inside"), std::string::npos) << e;
+  e = error_of("name,file\nx,a.yaml\nx,b.yaml\n");
+  EXPECT_NE(e.find("manifest.csv:3: name 'x' repeats"), std::string::npos) << e;
+  e = error_of("name,layout\nx,junction\n");
+  EXPECT_NE(e.find("manifest.csv:1: no column 'file'"), std::string::npos) << e;
+  e = error_of("name,file\nx,a.yaml,extra\n");
+  EXPECT_NE(e.find("manifest.csv:2: 3 columns, expected 2"), std::string::npos) << e;
+  e = error_of("name,file\n");
+  EXPECT_NE(e.find("no scenario rows"), std::string::npos) << e;
+  e = error_of("");
+  EXPECT_NE(e.find("empty"), std::string::npos) << e;
+}
+
+}  // namespace
