@@ -81,6 +81,7 @@ EXPECTED = {
     # pole and sign: origin at the base of the post (documented exception)
     "pole": dict(size=(None, None, 6.0), centred=False, ground=True, nodes=[]),
     "sign": dict(size=(None, 0.6, None), centred=False, ground=True, nodes=[]),
+    "barrier": dict(size=(10.0, 0.6, 0.81), centred=True, ground=True, nodes=[]),
 }
 
 # expected sign of (x, y) of each wheel's axle centre: front +x, left +y

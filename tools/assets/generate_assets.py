@@ -1645,6 +1645,19 @@ def build_sign():
                  "2.2 m facing +X; origin at the post base")
 
 
+def build_barrier():
+    # New Jersey profile: a 7.5 cm vertical lip, the steep lower slope to 0.33 m, then the upper
+    # face to the 0.15 m wide top at 0.81 m. 10 m along X, so a row of them tiles a road edge.
+    mb = MeshBuilder("barrier")
+    half = 5.0
+    tapered_box(mb, 0.0, 0.075, (half, 0.30), (half, 0.30), "concrete")
+    tapered_box(mb, 0.075, 0.33, (half, 0.30), (half, 0.20), "concrete")
+    tapered_box(mb, 0.33, 0.81, (half, 0.20), (half, 0.075), "concrete")
+    return Asset("barrier", [Node("barrier", mb)], ["barrier"],
+                 "concrete safety barrier, New Jersey profile: 10 m along X, 0.6 m wide at the "
+                 "base, 0.15 m at the top, 0.81 m high")
+
+
 BUILDERS = [
     ("car", build_car),
     ("van", build_van),
@@ -1661,6 +1674,7 @@ BUILDERS = [
     ("tree", build_tree),
     ("pole", build_pole),
     ("sign", build_sign),
+    ("barrier", build_barrier),
 ]
 
 

@@ -147,6 +147,7 @@ GeneratorConfig GeneratorConfig::load(const std::string& path) {
     c.ego_static_probability = read_probability(e, "static_probability", c.ego_static_probability);
     e.finish();
   }
+  c.highway_barriers = read_probability(m, "highway_barriers", c.highway_barriers);
   c.clearance_m = m.get("clearance_m", c.clearance_m);
   if (!(c.clearance_m >= 0.0 && c.clearance_m <= 10.0)) m.at("clearance_m").fail("expected 0 <= clearance_m <= 10");
   m.finish();

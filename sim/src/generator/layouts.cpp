@@ -337,6 +337,12 @@ Layout highway_layout(std::mt19937_64& rng) {
     out.signs.push_back({Vec2(s * (xm - 100.0), -s * (road_edge + kLaneWidth_m + 3.0)), s > 0 ? M_PI / 2 : -M_PI / 2});
     out.lane_length_m += 400.0;
   }
+  // Barrier rows along the median and both edges: 10 m segments 0.6 m apart, so that each keeps
+  // the clearance every static object keeps (the generator leaves out those in a ramp's way and
+  // may leave out all).
+  for (double y : {0.0, road_edge + 2.5, -(road_edge + 2.5)}) {
+    for (double x = -length + 5.0; x < length - 5.0; x += 10.6) out.barriers.push_back({Vec2(x, y), 0.0});
+  }
   // Lights along both edges, trees and a few buildings further out.
   for (double s : {1.0, -1.0}) {
     const double step = uniform(rng, 40.0, 60.0);

@@ -53,6 +53,7 @@ struct Layout {
   std::vector<Pose2> trees;
   std::vector<Pose2> poles;        ///< +x of the pole points at the road
   std::vector<Pose2> signs;
+  std::vector<Pose2> barriers;     ///< highway: rows along the median and both edges
   double lane_length_m = 0.0;      ///< total length of the driving lanes
   double sidewalk_length_m = 0.0;
   double extent_m = 0.0;           ///< every route lies within this distance of the origin

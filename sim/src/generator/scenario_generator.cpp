@@ -40,7 +40,7 @@ std::shared_ptr<const GeneratorAssets> load_generator_assets(const GeneratorConf
   const std::vector<std::pair<std::string, bool>> roles = {
       {"car", false},  {"van", false},   {"truck", false}, {"bus", false},           {"cyclist", false},
       {"pedestrian", false}, {"walker_skinned", false}, {"building_block", true}, {"building_tall", true},
-      {"tree", true},  {"pole", true},   {"sign", true}};
+      {"tree", true},  {"pole", true},   {"sign", true},  {"barrier", true}};
   for (const auto& [role, is_static] : roles) {
     const std::string path = (fs::path(config.assets_dir) / (role + ".gltf")).string();
     FMCW_CHECK_ARG(is_existing_file(path), config.source_file, ": assets: no ", role, ".gltf in ", config.assets_dir);
@@ -347,6 +347,11 @@ GeneratedScenario generate_scenario(const GeneratorConfig& config, const Generat
   for (const auto& t : layout.trees) place_static("tree", t);
   for (const auto& p : layout.poles) place_static("pole", p);
   for (const auto& s : layout.signs) place_static("sign", s);
+  if (!layout.barriers.empty() && chance(rng, config.highway_barriers)) {
+    const std::size_t before = statics.size();
+    for (const auto& b : layout.barriers) place_static("barrier", b);
+    row.barriers = static_cast<int>(statics.size() - before);
+  }
   row.static_objects = static_cast<int>(statics.size());
 
   const bool highway = !layout.urban;
@@ -656,7 +661,7 @@ std::vector<SetEntry> read_set_manifest(const std::string& path) {
 std::string manifest_header() {
   return "name,file,layout,seed,frames,rate_hz,rig,range_sigma_m,velocity_sigma_mps,lanes_per_direction,lane_length_m,"
          "sidewalk_length_m,ego_route,ego_stops,ego_max_speed_mps,cars,vans,trucks,buses,cyclists,pedestrians,parked,"
-         "static_objects,vehicles_stopping,vehicles_turning,lane_changes,pedestrians_crossing,pedestrians_waiting,pedestrians_standing,"
+         "static_objects,barriers,vehicles_stopping,vehicles_turning,lane_changes,pedestrians_crossing,pedestrians_waiting,pedestrians_standing,"
          "min_speed_mps,max_speed_mps,mean_speed_mps,actors_per_100m,rejected_candidates,min_clearance_m,clearance_ok";
 }
 
@@ -667,7 +672,7 @@ std::string manifest_line(const ManifestRow& r) {
     << ',' << num(r.lane_length_m, 1) << ',' << num(r.sidewalk_length_m, 1) << ',' << r.ego_route << ','
     << (r.ego_stops ? "true" : "false") << ',' << num(r.ego_max_speed_mps, 2) << ',' << r.cars << ',' << r.vans << ','
     << r.trucks << ',' << r.buses << ',' << r.cyclists << ',' << r.pedestrians << ',' << r.parked << ','
-    << r.static_objects << ',' << r.vehicles_stopping << ',' << r.vehicles_turning << ',' << r.lane_changes << ','
+    << r.static_objects << ',' << r.barriers << ',' << r.vehicles_stopping << ',' << r.vehicles_turning << ',' << r.lane_changes << ','
     << r.pedestrians_crossing << ',' << r.pedestrians_waiting
     << ',' << r.pedestrians_standing << ',' << num(r.min_speed_mps, 2) << ',' << num(r.max_speed_mps, 2) << ','
     << num(r.mean_speed_mps, 2) << ',' << num(r.actors_per_100m, 3) << ',' << r.rejected_candidates << ','

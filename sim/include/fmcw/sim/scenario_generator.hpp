@@ -46,7 +46,7 @@ struct GeneratorConfig {
   std::string assets_dir;    ///< resolved folder of the project's meshes
   std::string materials;     ///< resolved materials table
   std::string classes;       ///< resolved class table
-  double ground_half_size_m = 400.0;
+  double highway_barriers = 0.7;  ///< chance that a highway has barrier rows (median and edges)
 
   // Traffic. Densities are per 100 m of lane (vehicles, cyclists) or of sidewalk (pedestrians).
   ValueRange vehicles_per_100m{1.0, 4.0};
@@ -98,6 +98,7 @@ struct ManifestRow {
   double ego_max_speed_mps = 0.0;
   int cars = 0, vans = 0, trucks = 0, buses = 0, cyclists = 0, pedestrians = 0, parked = 0;
   int static_objects = 0;
+  int barriers = 0;  ///< barrier segments (10 m each), of static_objects
   int vehicles_stopping = 0, vehicles_turning = 0, lane_changes = 0;
   int pedestrians_crossing = 0, pedestrians_waiting = 0, pedestrians_standing = 0;
   double min_speed_mps = 0.0;   ///< cruise speeds of the moving actors
