@@ -9,6 +9,7 @@
 #include "fmcw/core/check.hpp"
 #include "fmcw/core/median.hpp"
 #include "fmcw/core/random.hpp"
+#include "fmcw/core/threads.hpp"
 
 namespace fmcw::core {
 
@@ -52,7 +53,8 @@ void MotionPipelineParams::validate() const {
   FMCW_CHECK_ARG(moving_sigma > 0.0, "pipeline: moving_sigma must be > 0, got ", moving_sigma);
   FMCW_CHECK_ARG(min_static_fraction >= 0.0 && min_static_fraction <= 1.0, "pipeline: min_static_fraction must be in [0, 1], got ",
                  min_static_fraction);
-  FMCW_CHECK_ARG(num_threads >= 0, "pipeline: num_threads must be >= 0, got ", num_threads);
+  FMCW_CHECK_ARG(num_threads >= 0 && num_threads <= kMaxThreads, "pipeline: num_threads (--threads) must be in [0, ", kMaxThreads,
+                 "] (0: all cores), got ", num_threads);
   FMCW_CHECK_ARG(max_weak_sigma_mps > 0.0, "pipeline: max_weak_sigma_mps must be > 0, got ", max_weak_sigma_mps);
   FMCW_CHECK_ARG(!track_objects || approach == MotionApproach::kRobustEgo,
                  "pipeline: track_objects needs the robust-ego approach");

@@ -20,6 +20,27 @@ ClassTable ClassTable::builtin() {
 }
 
 void ClassTable::add(const std::string& name, std::uint64_t id) {
+  // Class names are cells of CSV tables (objects.csv, the evaluation's tables) and lines of
+  // YAML: printable, no comma or quote, short.
+  if (name.empty()) throw std::invalid_argument("class name is empty");
+  if (name.size() > kMaxClassNameLength) {
+    throw std::invalid_argument("class name '" + name.substr(0, 32) + "...' is longer than " +
+                                std::to_string(kMaxClassNameLength) + " characters");
+  }
+  for (const char c : name) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f || c == ',' || c == '"') {
+      std::string shown;
+      for (const char d : name) {
+        const auto v = static_cast<unsigned char>(d);
+        shown += v < 0x20 || v == 0x7f ? "\\x" + std::string(1, "0123456789abcdef"[v >> 4]) + "0123456789abcdef"[v & 15]
+                                       : std::string(1, d);
+      }
+      throw std::invalid_argument("class name '" + shown + "' holds " +
+                                  (c == ',' ? "a comma" : c == '"' ? "a double quote" : "a control character") +
+                                  ": class names are written into CSV tables; use letters, digits, spaces and _ - . /");
+    }
+  }
   if (id == 0 || id > 65535) {
     throw std::invalid_argument("class '" + name + "': id " + std::to_string(id) + " is not in [1, 65535]");
   }

@@ -6,6 +6,7 @@
 
 #include "fmcw/core/check.hpp"
 #include "fmcw/io/atomic_file.hpp"
+#include "fmcw/io/csv_cell.hpp"
 
 namespace fmcw::eval {
 
@@ -41,13 +42,7 @@ CsvTable& CsvTable::add(const std::string& text) {
 }
 
 CsvTable& CsvTable::add_quoted(const std::string& text) {
-  if (text.find_first_of(",\"\n\r") == std::string::npos) {
-    cell(text);
-    return *this;
-  }
-  std::string q = "\"";
-  for (const char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  cell(q + "\"");
+  cell(io::csv_cell(text));
   return *this;
 }
 

@@ -1,5 +1,7 @@
 #include "fmcw/io/results_writer.hpp"
 
+#include "fmcw/io/csv_cell.hpp"
+
 #include <filesystem>
 #include <iomanip>
 #include <nlohmann/json.hpp>
@@ -73,7 +75,7 @@ void ResultsWriter::open(Table& table, const std::string& name, const std::strin
 }
 
 void ResultsWriter::add(std::size_t frame_index, const std::string& source, const core::MotionEstimate& e) {
-  ego_.out << frame_index << ',' << source << ',' << e.method << ',' << core::to_string(e.status) << ','
+  ego_.out << frame_index << ',' << csv_cell(source) << ',' << e.method << ',' << core::to_string(e.status) << ','
            << e.num_static_pixels << ',' << e.clusters.size() << ',' << velocity_csv(e.ego) << '\n';
   nlohmann::json objects = nlohmann::json::array();
   for (const auto& c : e.clusters) {

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "fmcw/io/atomic_file.hpp"
+#include "fmcw/io/output_folder.hpp"
 #include "fmcw/io/truth_tables.hpp"
 #include "fmcw/sim/dataset_header.hpp"
 
@@ -55,6 +56,8 @@ bool place_frame(const fs::path& from, const fs::path& to) {
 
 MergeSummary merge_shards(const std::vector<std::string>& shard_dirs, const std::string& output_dir, bool overwrite) {
   if (shard_dirs.empty()) throw std::invalid_argument("merge: no shard folders given");
+  // Before anything is read or written: the merged dataset never goes over one of its shards.
+  io::refuse_output_over_inputs(output_dir, shard_dirs);
   std::vector<Shard> shards;
   for (const std::string& d : shard_dirs) {
     const fs::path yaml = fs::path(d) / "dataset.yaml";
@@ -102,8 +105,19 @@ MergeSummary merge_shards(const std::vector<std::string>& shard_dirs, const std:
 
   const fs::path out(output_dir);
   std::error_code ec;
-  if (fs::exists(out, ec) && !fs::is_empty(out, ec) && !overwrite) {
-    throw std::invalid_argument("output folder '" + output_dir + "' exists and is not empty (choose another folder or pass --overwrite)");
+  if (fs::exists(out, ec) && !fs::is_directory(out, ec)) {
+    throw std::invalid_argument("output '" + output_dir + "' exists and is not a folder");
+  }
+  const io::FolderLock lock(output_dir);
+  if (!io::is_empty_folder(output_dir)) {
+    if (!overwrite) {
+      throw std::invalid_argument("output folder '" + output_dir + "' exists and is not empty (choose another folder or pass --overwrite)");
+    }
+    if (!io::holds_dataset(output_dir)) {
+      throw std::invalid_argument("output folder '" + output_dir +
+                                  "' holds no dataset.yaml or frames/: --overwrite replaces only a dataset (or what a "
+                                  "stopped merge left); choose another folder");
+    }
   }
   // What is there is no dataset until the merge ends, and older frames would be taken for its own.
   fs::remove(out / "dataset.yaml", ec);

@@ -1,7 +1,9 @@
 #include "fmcw/sim/dataset_writer.hpp"
 
 #include <cerrno>
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -9,6 +11,7 @@
 #include <sstream>
 
 #include "fmcw/io/atomic_file.hpp"
+#include "fmcw/io/output_folder.hpp"
 #include "fmcw/io/pcd.hpp"
 #include "fmcw/io/truth_tables.hpp"
 
@@ -97,9 +100,28 @@ void remove_partial_files(const fs::path& dir, int first, int end) {
   }
 }
 
+// Why the kept frame k is not the one this run would write (it cannot be read whole, or its
+// stamp is another frame's), or "" when it is.
+std::string kept_frame_fault(const fs::path& file, double stamp_s) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return "missing";
+  try {
+    const core::Frame frame = io::read_frame(file.string());
+    if (!(std::abs(frame.scan.stamp_s - stamp_s) <= 1e-9 * std::max(1.0, std::abs(stamp_s)))) {
+      return "stamp " + std::to_string(frame.scan.stamp_s) + " s where frame time " + std::to_string(stamp_s) + " s was written";
+    }
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
 // Checks that the dataset in dir was started with the same scenario and options, cleans up after
-// the stop, and returns how many whole frames it holds.
-int prepare_resume(const fs::path& dir, const DatasetHeader& wanted, int total_frames) {
+// the stop, and returns how many whole frames it holds. Every frame it counts is read back: from
+// the first that is missing, cut short or not the frame this run would write, the frames are
+// simulated again (note says which and why).
+int prepare_resume(const fs::path& dir, const DatasetHeader& wanted, int total_frames, const Scenario& scenario,
+                   std::string& note) {
   const std::string yaml_file = (dir / "dataset.yaml").string();
   const DatasetHeader found = DatasetHeader::read(yaml_file);
   const std::string hint = " (resume needs the same scenario file, --frames, --seed, --shard and fmcw version)";
@@ -119,19 +141,21 @@ int prepare_resume(const fs::path& dir, const DatasetHeader& wanted, int total_f
                                 shard_text(wanted.shard) + hint);
   }
   const int first = wanted.shard ? wanted.shard->first_frame : 0;
-  const int done = found.frames_written;
+  int done = found.frames_written;
   if (done > total_frames) {
     throw std::invalid_argument(yaml_file + ": counts " + std::to_string(done) + " frames, more than the " +
                                 std::to_string(total_frames) + " this run writes; the dataset cannot be resumed");
   }
-  remove_partial_files(dir, first, first + done);
   for (int k = first; k < first + done; ++k) {
-    std::error_code ec;
-    if (!fs::is_regular_file(dir / "frames" / frame_file_name(k), ec)) {
-      throw std::invalid_argument(yaml_file + ": counts " + std::to_string(done) + " whole frames but " +
-                                  (dir / "frames" / frame_file_name(k)).string() + " is missing; the dataset cannot be resumed");
-    }
+    const fs::path file = dir / "frames" / frame_file_name(k);
+    const std::string fault = kept_frame_fault(file, scenario.frame_time_s(static_cast<std::uint64_t>(k)));
+    if (fault.empty()) continue;
+    note = file.string() + ": " + fault + "; it and the " + std::to_string(first + done - k - 1) +
+           " frames after it are simulated again";
+    done = k - first;
+    break;
   }
+  remove_partial_files(dir, first, first + done);
   const int ego_frames = truncate_table(dir / "ego.csv", io::kEgoCsvHeader, first, first + done);
   truncate_table(dir / "objects.csv", io::kObjectsCsvHeader, first, first + done);
   if (ego_frames != done) {
@@ -172,7 +196,12 @@ DatasetSummary write_dataset(const LoadedScenario& loaded_in, const DatasetOptio
   const fs::path dir(options.output_dir);
   const fs::path yaml_file = dir / "dataset.yaml";
   std::error_code ec;
-  const bool occupied = fs::exists(dir, ec) && !fs::is_empty(dir, ec);
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
+    throw std::invalid_argument("output '" + options.output_dir + "' exists and is not a folder");
+  }
+  // One writer per dataset, from the first look at the folder to the last frame.
+  const io::FolderLock lock(options.output_dir);
+  const bool occupied = !io::is_empty_folder(options.output_dir);
   DatasetSummary summary;
   summary.frames_total = shard.frames();
   if (options.resume && occupied) {
@@ -180,12 +209,18 @@ DatasetSummary write_dataset(const LoadedScenario& loaded_in, const DatasetOptio
       throw std::invalid_argument("cannot resume: '" + options.output_dir + "' holds no dataset.yaml");
     }
     io::ensure_writable_directory((dir / "frames").string());
-    summary.frames_resumed = prepare_resume(dir, header, shard.frames());
+    summary.frames_resumed = prepare_resume(dir, header, shard.frames(), s, summary.resume_note);
   } else {
     if (occupied && !options.overwrite) {
       throw std::invalid_argument("output folder '" + options.output_dir +
                                   "' exists and is not empty (choose another folder, pass --overwrite, or --resume "
                                   "to continue a stopped run)");
+    }
+    // --overwrite replaces a dataset, nothing else: a folder of other files is left as it is.
+    if (occupied && !io::holds_dataset(options.output_dir)) {
+      throw std::invalid_argument("output folder '" + options.output_dir +
+                                  "' holds no dataset.yaml or frames/: --overwrite replaces only a dataset that fmcw "
+                                  "writes; choose another folder");
     }
     io::ensure_writable_directory((dir / "frames").string());
     // Files of an earlier dataset here would be taken for part of this one.

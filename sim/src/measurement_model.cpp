@@ -7,10 +7,12 @@
 namespace fmcw::sim {
 
 void MeasurementParams::validate() const {
-  FMCW_CHECK_ARG(std::isfinite(range_sigma_m) && range_sigma_m >= 0.0, "measurement: range_sigma_m must be >= 0, got ",
-                 range_sigma_m);
-  FMCW_CHECK_ARG(std::isfinite(velocity_sigma_mps) && velocity_sigma_mps >= 0.0,
-                 "measurement: velocity_sigma_mps must be >= 0, got ", velocity_sigma_mps);
+  // Beyond 10 m (m/s) the noise is no longer a measurement error: ranges and Doppler turn into
+  // noise alone, and squares of it overflow.
+  FMCW_CHECK_ARG(std::isfinite(range_sigma_m) && range_sigma_m >= 0.0 && range_sigma_m <= 10.0,
+                 "measurement: range_sigma_m must be in [0, 10] m, got ", range_sigma_m);
+  FMCW_CHECK_ARG(std::isfinite(velocity_sigma_mps) && velocity_sigma_mps >= 0.0 && velocity_sigma_mps <= 10.0,
+                 "measurement: velocity_sigma_mps must be in [0, 10] m/s, got ", velocity_sigma_mps);
   FMCW_CHECK_ARG(wavelength_m > 0.0 && bandwidth_hz > 0.0 && chirp_period_s > 0.0 && speed_of_light_mps > 0.0,
                  "measurement: wavelength_m, bandwidth_hz and chirp_period_s must be > 0");
   FMCW_CHECK_ARG(std::isfinite(beat_frequency_sigma_hz) && beat_frequency_sigma_hz >= 0.0,

@@ -9,6 +9,9 @@
 
 #include "fmcw/core/check.hpp"
 #include "fmcw/sim/yaml_reader.hpp"
+#include "fmcw/core/threads.hpp"
+#include "memory_budget.hpp"
+#include "scene_limits.hpp"
 
 namespace fmcw::sim {
 
@@ -115,14 +118,22 @@ core::HeadModel read_head(const YamlValue& value, std::size_t index) {
   return head;
 }
 
-core::RigModel read_rig(const YamlValue& value) {
+core::RigModel read_rig(const YamlValue& value, MemoryBudget* budget = nullptr) {
   YamlMap m(value);
   core::RigModel rig;
   const YamlValue heads = m.at("heads");
   const auto items = heads.items();
   if (items.empty()) heads.fail("a rig needs at least one head");
-  for (std::size_t k = 0; k < items.size(); ++k) rig.heads.push_back(read_head(items[k], k));
+  double pixels = 0.0;
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    rig.heads.push_back(read_head(items[k], k));
+    pixels += static_cast<double>(rig.heads.back().rows()) * static_cast<double>(rig.heads.back().cols());
+  }
   m.finish();
+  if (budget) {
+    budget->add(pixels * kBytesPerPixel, heads.where(),
+                "the " + std::to_string(items.size()) + " heads' " + std::to_string(static_cast<long long>(pixels)) + " pixels");
+  }
   try {
     rig.validate();
   } catch (const std::invalid_argument& e) {
@@ -292,7 +303,7 @@ ObjectSpec read_object(const YamlValue& value, bool is_actor, const std::string&
   ObjectSpec o;
   o.mesh = m.at("mesh").as_string();
   o.mesh_path = resolve_path(scenario_file, o.mesh);
-  if (!is_existing_file(o.mesh_path)) m.at("mesh").fail("mesh file '" + o.mesh_path + "' does not exist");
+  if (!is_existing_file(o.mesh_path)) m.at("mesh").fail("mesh file '" + o.mesh_path + "' " + missing_file_reason(o.mesh_path));
   if (m.has("mesh_transform")) {
     const YamlValue mt = m.at("mesh_transform");
     YamlMap t(mt);
@@ -401,7 +412,7 @@ auto with_yaml_errors_named(const std::string& path, Read read) {
   }
 }
 
-LoadedScenario load_scenario_unchecked(const std::string& path);
+LoadedScenario load_scenario_unchecked(const std::string& path, MemoryBudget& budget);
 
 }  // namespace
 
@@ -409,35 +420,42 @@ core::RigModel load_rig(const std::string& path) {
   return with_yaml_errors_named(path, [&] { return read_rig(YamlValue::load_file(path)); });
 }
 
-LoadedScenario load_scenario(const std::string& path) {
-  return with_yaml_errors_named(path, [&] { return load_scenario_unchecked(path); });
+LoadedScenario load_scenario(const std::string& path, std::uint64_t max_memory_bytes) {
+  MemoryBudget budget(max_memory_bytes);
+  return with_yaml_errors_named(path, [&] { return load_scenario_unchecked(path, budget); });
 }
 
 namespace {
 
-LoadedScenario load_scenario_unchecked(const std::string& path) {
+LoadedScenario load_scenario_unchecked(const std::string& path, MemoryBudget& budget) {
   const YamlValue root = YamlValue::load_file(path);
   YamlMap m(root);
   LoadedScenario loaded;
   Scenario& s = loaded.scenario;
   s.source_file = path;
   s.name = m.get("name", fs::path(path).stem().string());
+  if (s.name.empty() || s.name.size() > 200 ||
+      std::any_of(s.name.begin(), s.name.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; })) {
+    m.at("name").fail("name must be 1 to 200 characters without control characters (got " +
+                      std::to_string(s.name.size()) + " characters)");
+  }
   const int frames = m.get("frames", 1);
   if (frames < 1) m.at("frames").fail("frames must be >= 1, got " + std::to_string(frames));
   s.frames = frames;
   s.rate_hz = m.get("rate_hz", 10.0);
-  if (!(s.rate_hz > 0.0)) m.at("rate_hz").fail("rate_hz must be > 0");
+  if (!(s.rate_hz >= 1e-3 && s.rate_hz <= 1e6)) m.at("rate_hz").fail("rate_hz must be in [0.001, 1e6] Hz");
   s.start_time_s = m.get("start_time_s", 0.0);
+  if (!(std::abs(s.start_time_s) <= 1e9)) m.at("start_time_s").fail("start_time_s must be within 1e9 s of 0");
   s.seed = m.get("seed", std::uint64_t{0});
   if (m.has("rig")) {
     const YamlValue rig = m.at("rig");
     if (rig.is_scalar()) {
       const std::string file = resolve_path(path, rig.as_string());
-      if (!is_existing_file(file)) rig.fail("rig config '" + file + "' does not exist");
+      if (!is_existing_file(file)) rig.fail("rig config '" + file + "' " + missing_file_reason(file));
       s.rig = load_rig(file);
       s.rig_source = file;
     } else {
-      s.rig = read_rig(rig);
+      s.rig = read_rig(rig, &budget);
       s.rig_source = "inline";
     }
   } else {
@@ -482,7 +500,7 @@ LoadedScenario load_scenario_unchecked(const std::string& path) {
   if (m.has("materials")) {
     const YamlValue mat = m.at("materials");
     s.materials_file = resolve_path(path, mat.as_string());
-    if (!is_existing_file(s.materials_file)) mat.fail("materials file '" + s.materials_file + "' does not exist");
+    if (!is_existing_file(s.materials_file)) mat.fail("materials file '" + s.materials_file + "' " + missing_file_reason(s.materials_file));
     s.materials = read_materials(s.materials_file);
   } else {
     m.get("materials", 0.0);
@@ -491,7 +509,7 @@ LoadedScenario load_scenario_unchecked(const std::string& path) {
   if (m.has("classes")) {
     const YamlValue c = m.at("classes");
     s.classes_file = resolve_path(path, c.as_string());
-    if (!is_existing_file(s.classes_file)) c.fail("class table '" + s.classes_file + "' does not exist");
+    if (!is_existing_file(s.classes_file)) c.fail("class table '" + s.classes_file + "' " + missing_file_reason(s.classes_file));
     read_class_table(s.classes_file, s);
   } else {
     m.get("classes", 0.0);
@@ -505,7 +523,11 @@ LoadedScenario load_scenario_unchecked(const std::string& path) {
     s.ground_reflectivity = static_cast<float>(gm.get("reflectivity", 0.1));
     s.ground_class = gm.get("class", s.ground_class);
     if (!s.classes.find(s.ground_class)) gm.at("class").fail(unknown_class(s, s.ground_class));
-    if (!(s.ground_half_size_m > 0.0)) gm.at("half_size_m").fail("must be > 0");
+    if (!(s.ground_half_size_m > 0.0 && s.ground_half_size_m <= kMaxSceneExtent_m)) {
+      gm.at("half_size_m").fail("must be in (0, " + std::to_string(static_cast<int>(kMaxSceneExtent_m)) +
+                                "] m: farther out, single-precision ray tracing loses millimetres");
+    }
+    if (!(std::abs(s.ground_z_m) <= kMaxSceneExtent_m)) gm.at("z_m").fail("must be within 10000 m of 0");
     gm.finish();
   } else {
     m.get("ground", 0.0);
@@ -579,6 +601,13 @@ LoadedScenario load_scenario_unchecked(const std::string& path) {
         copy.trajectory.pose.linear() = offset.linear() * base.trajectory.pose.linear();
         s.statics.push_back(copy);
         loaded.static_meshes.push_back(mesh(s.statics.back(), item));
+        if (k == 0) {
+          // Every copy is a mesh of its own in the scene: counted before the copies are made.
+          const double triangles = static_cast<double>(loaded.static_meshes.back()->triangle_count());
+          budget.add(count * triangles * kBytesPerTriangle, item.where(),
+                     std::to_string(count) + " cop" + (count == 1 ? "y" : "ies") + " of '" + base.mesh_path + "' (" +
+                         std::to_string(static_cast<long long>(triangles)) + " triangles each)");
+        }
         offset = step * offset;
       }
     }
@@ -596,6 +625,8 @@ LoadedScenario load_scenario_unchecked(const std::string& path) {
         item.fail("actor id " + std::to_string(a.id) + " is already used by " + ids[a.id]);
       }
       loaded.actor_meshes.push_back(mesh(a, item));
+      budget.add(static_cast<double>(loaded.actor_meshes.back()->triangle_count()) * kBytesPerTriangle, item.where(),
+                 "actor mesh '" + a.mesh_path + "'");
     }
   } else {
     m.get("actors", 0.0);
@@ -692,8 +723,12 @@ std::string scenario_to_yaml(const Scenario& s) {
 }
 
 SimulationSetup build_simulation(const LoadedScenario& loaded, int num_threads) {
+  // Checked before the scene is built (the simulator checks it again).
+  FMCW_CHECK_ARG(num_threads >= 0 && num_threads <= core::kMaxThreads, "simulator: num_threads (--threads) must be in [0, ",
+                 core::kMaxThreads, "] (0: all cores), got ", num_threads);
   const Scenario& s = loaded.scenario;
   SimulationSetup setup;
+  check_scene_limits(s);
   setup.scene = std::make_shared<Scene>();
   const auto class_id = [&](const std::string& name) { return *s.classes.find(name); };
   if (s.ground) setup.scene->add_ground_plane(s.ground_z_m, s.ground_half_size_m, s.ground_reflectivity, class_id(s.ground_class));

@@ -1,8 +1,11 @@
 #include "fmcw/sim/yaml_reader.hpp"
 
+#include <yaml-cpp/depthguard.h>
+
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -13,14 +16,29 @@ bool is_existing_file(const std::string& path) {
   return std::filesystem::is_regular_file(path, ec);
 }
 
+std::string missing_file_reason(const std::string& path) {
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  if (std::filesystem::is_directory(st)) return "is a directory";
+  if (std::filesystem::exists(st)) return "is not a regular file";
+  if (std::filesystem::is_symlink(std::filesystem::symlink_status(path, ec))) return "is a broken or looping link";
+  return "does not exist";
+}
+
 YamlValue::YamlValue(YAML::Node node, std::string file, std::string path)
     : node_(std::move(node)), file_(std::move(file)), path_(std::move(path)) {}
 
 YamlValue YamlValue::load_file(const std::string& file) {
-  if (!is_existing_file(file)) throw std::invalid_argument(file + ": file does not exist");
+  if (!is_existing_file(file)) throw std::invalid_argument(file + ": " + missing_file_reason(file));
   YAML::Node root;
   try {
     root = YAML::LoadFile(file);
+  } catch (const YAML::DeepRecursion& e) {
+    // yaml-cpp's own message for this is "bad file".
+    std::ostringstream msg;
+    msg << file << ":" << e.mark.line + 1 << ":" << e.mark.column + 1 << ": malformed YAML: nested deeper than "
+        << e.depth() - 1 << " levels";
+    throw std::invalid_argument(msg.str());
   } catch (const YAML::Exception& e) {
     std::ostringstream msg;
     msg << file << ":" << e.mark.line + 1 << ":" << e.mark.column + 1 << ": malformed YAML: " << e.msg;
@@ -101,13 +119,24 @@ std::vector<double> YamlValue::as_doubles() const {
 
 YamlMap::YamlMap(const YamlValue& value) : value_(value) {
   if (!value.is_map()) value.fail("expected a map of keys");
+  // yaml-cpp keeps every entry of a key given twice and answers lookups with the first: the
+  // second would be ignored without a word.
+  std::map<std::string, int> lines;
+  const std::string where = value_.path().empty() ? "the top level" : value_.path();
   for (const auto& kv : value.node()) {
+    const int line = kv.first.Mark().line + 1;
     if (!kv.first.IsScalar()) {
       std::ostringstream msg;
-      msg << value_.file() << ":" << kv.first.Mark().line + 1 << ": "
+      msg << value_.file() << ":" << line << ": "
           << (value_.path().empty() ? "top level" : value_.path()) << ": a key must be a plain word, got a "
           << (kv.first.IsSequence() ? "list" : kv.first.IsMap() ? "map" : "null");
       throw std::invalid_argument(msg.str());
+    }
+    const auto [it, added] = lines.emplace(kv.first.Scalar(), line);
+    if (!added) {
+      throw std::invalid_argument(value_.file() + ":" + std::to_string(line) + ": key '" + kv.first.Scalar() +
+                                  "' given twice in " + where + " (first at line " + std::to_string(it->second) +
+                                  "); keep one");
     }
   }
 }

@@ -93,8 +93,8 @@ TEST_F(ScenarioFiles, WrongTypesAndOutOfRangeValuesAreRejected) {
   expect_error("seed: -3\n", {"s.yaml:1: seed: expected a non-negative integer, got '-3'"});
   expect_error("ground: 4\n", {"s.yaml:1: ground: expected a map of keys"});
   expect_error("static: {mesh: a.obj}\n", {"s.yaml:1: static: expected a list"});
-  expect_error("rate_hz: -10\n", {"rate_hz must be > 0"});
-  expect_error("measurement: {range_sigma_m: -1}\n", {"measurement", "range_sigma_m must be >= 0"});
+  expect_error("rate_hz: -10\n", {"rate_hz must be in [0.001, 1e6] Hz"});
+  expect_error("measurement: {range_sigma_m: -1}\n", {"measurement", "range_sigma_m must be in [0, 10] m, got -1"});
 }
 
 TEST_F(ScenarioFiles, RigErrorsNameTheHead) {

@@ -169,7 +169,8 @@ TEST_F(CliFormats, BadInputGetsOneErrorLine) {
       {"export --format aeva " + path("scan.bin") + " -o " + path("o4") + " --to kitti",
        "no labels: the cloud has neither 'label'"},
       {"export " + path("nothing") + " -o " + path("o5") + " --to ply", "does not exist"},
-      {"process --format aeva " + dir_.string() + " -o " + path("o6"), "bad.bin"},
+      // (the output outside the input folder: inside it would be refused before bad.bin is read)
+      {"process --format aeva " + dir_.string() + " -o " + dir_.string() + "_o6", "bad.bin"},
   };
   for (const Case& c : cases) {
     const CliResult r = run_cli(c.args);

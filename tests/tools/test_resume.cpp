@@ -12,6 +12,7 @@
 #include <fstream>
 #include <thread>
 
+#include "support/child_process.hpp"
 #include "support/cli.hpp"
 #include "support/dataset_files.hpp"
 #include "support/temp_dir.hpp"
@@ -19,7 +20,9 @@
 namespace {
 
 namespace fs = std::filesystem;
+using fmcw::test::Child;
 using fmcw::test::folder_bytes;
+using fmcw::test::wait_for;
 using fmcw::test::run_cli;
 using fmcw::test::slurp;
 
@@ -30,34 +33,6 @@ int frames_written(const fs::path& dir) {
   const std::string yaml = slurp(dir / "dataset.yaml");
   const std::size_t at = yaml.find("frames_written: ");
   return at == std::string::npos ? -1 : std::atoi(yaml.c_str() + at + 16);
-}
-
-struct Child {
-  pid_t pid = -1;
-  int code = -1;  ///< exit code, or 128 + signal
-};
-
-// Starts `fmcw ARGS...` with stdout and stderr into log_file.
-Child start(const std::vector<std::string>& args, const std::string& log_file) {
-  Child c;
-  c.pid = ::fork();
-  if (c.pid == 0) {
-    const int fd = ::open(log_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    ::dup2(fd, 1);
-    ::dup2(fd, 2);
-    std::vector<char*> argv{const_cast<char*>(FMCW_CLI_PATH)};
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    ::execv(FMCW_CLI_PATH, argv.data());
-    ::_exit(127);
-  }
-  return c;
-}
-
-void wait_for(Child& c) {
-  int status = 0;
-  ::waitpid(c.pid, &status, 0);
-  c.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
 class Resume : public fmcw::test::TempDirTest {
@@ -77,7 +52,7 @@ class Resume : public fmcw::test::TempDirTest {
   }
   // Runs the simulator and sends sig once dataset.yaml counts at least 3 frames.
   Child run_and_stop(const std::string& out, int sig) {
-    Child c = start(simulate_args(out), path(out + ".log"));
+    Child c = fmcw::test::start_cli(simulate_args(out), path(out + ".log"));
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(5);  // a bound, not a timing
     while (frames_written(dir_ / out) < 3 && std::chrono::steady_clock::now() < deadline) {
       std::this_thread::sleep_for(std::chrono::milliseconds(1));

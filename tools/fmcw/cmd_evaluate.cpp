@@ -75,7 +75,7 @@ Action add_evaluate_command(CLI::App& app) {
   cmd->add_option("--methods", opt->methods, "Methods to run, comma-separated (default: all; paper is always included)")
       ->delimiter(',')
       ->check(CLI::IsMember(core::MotionPipelineParams::preset_names()));
-  cmd->add_option("--seed", opt->seed, "Seed of the methods' random subsampling");
+  cmd->add_option("--seed", opt->seed, "Seed of the methods' random subsampling")->check(seed_validator());
   cmd->add_option("--threads", opt->threads, "Threads for per-object estimation (0 = all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--frames", opt->frames, "Evaluate only the first N frames")->check(CLI::PositiveNumber);
   cmd->add_flag("--no-figures", opt->no_figures, "Write metrics.json and the tables only (no Python report)");

@@ -7,6 +7,7 @@
 #include "commands.hpp"
 #include "fmcw/io/atomic_file.hpp"
 #include "fmcw/io/openpcdet.hpp"
+#include "fmcw/io/output_folder.hpp"
 #include "fmcw/io/ply.hpp"
 #include "fmcw/io/semantic_kitti.hpp"
 #include "fmcw/io/truth_tables.hpp"
@@ -141,6 +142,7 @@ int run_export(const ExportOptions& opt) {
   const io::InputOptions input = opt.input.resolve();
   const io::LabelSource label_source = io::parse_label_source(opt.labels);
   if (!(opt.doppler_scale_mps > 0.0)) throw std::invalid_argument("--doppler-scale must be > 0 m/s");
+  io::refuse_output_over_inputs(opt.output, {opt.input.path});
   const std::vector<std::string> files = io::list_input_files(opt.input.path, input.format);
   const DatasetTables tables = read_dataset_tables(opt.input.path, files.size());
   if (opt.to == "openpcdet") require_dataset_with_boxes(opt.input, tables);
@@ -148,6 +150,7 @@ int run_export(const ExportOptions& opt) {
   const fs::path out_dir(opt.output);
   ExportOutput output;
   output.folder(out_dir);
+  const io::FolderLock lock(opt.output);
   if (opt.to == "kitti") {
     output.folder(out_dir / "velodyne");
     output.folder(out_dir / "labels");

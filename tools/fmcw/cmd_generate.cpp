@@ -31,7 +31,7 @@ Action add_generate_command(CLI::App& app) {
       "generate", "Write N procedural scenarios (layouts, traffic, rigs, noise) and a manifest, from a generator config");
   cmd->add_option("config", opt->config, "Generator config (default: configs/generator.yaml)");
   cmd->add_option("--count", opt->count, "Scenarios to write")->required()->check(CLI::Range(1, 1000000));
-  cmd->add_option("--seed", opt->seed, "Seed of the set: the same seed gives the same files");
+  cmd->add_option("--seed", opt->seed, "Seed of the set: the same seed gives the same files")->check(seed_validator());
   cmd->add_option("-o,--output", opt->output, "Output folder (scenarios/, manifest.csv, generator.yaml)")->required();
   cmd->add_flag("--overwrite", opt->overwrite, "Replace a set that fmcw generate wrote there before");
   return [opt] {

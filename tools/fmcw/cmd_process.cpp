@@ -3,10 +3,12 @@
 
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "commands.hpp"
 #include "fmcw/core/motion_pipeline.hpp"
 #include "fmcw/io/atomic_file.hpp"
+#include "fmcw/io/output_folder.hpp"
 #include "fmcw/io/results_writer.hpp"
 #include "input_flags.hpp"
 
@@ -59,10 +61,11 @@ int run_process(const ProcessOptions& opt) {
   core::MotionPipeline pipeline(params);
   const fs::path out_dir(opt.output);
   const fs::path label_dir = out_dir / "labels";
+  io::refuse_output_over_inputs(opt.output, {opt.input.path});
   std::error_code ec;
   const bool made_out = !fs::exists(out_dir, ec);
   const bool made_labels = !opt.no_clouds && !fs::exists(label_dir, ec);
-  io::ensure_writable_directory(opt.output);
+  std::optional<io::FolderLock> lock(std::in_place, opt.output);
   if (!opt.no_clouds) io::ensure_writable_directory(label_dir.string());
   // A frame that fails stops the run with its error; the labelled clouds written before it go
   // too (and the folders this run made, if nothing else is in them): no half-written output.
@@ -71,6 +74,7 @@ int run_process(const ProcessOptions& opt) {
     process_frames(opt, input, files, pipeline, label_dir, written);
   } catch (...) {
     for (const fs::path& f : written) fs::remove(f, ec);
+    lock.reset();
     if (made_labels && fs::is_empty(label_dir, ec)) fs::remove(label_dir, ec);
     if (made_out && fs::is_empty(out_dir, ec)) fs::remove(out_dir, ec);
     throw;
@@ -87,7 +91,7 @@ Action add_process_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("process", "Run a motion method on a PCD file, a dataset folder or Aeva scans");
   cmd->add_option("-o,--output", opt->output, "Output folder")->required();
   cmd->add_option("--method", opt->method, "Motion method")->check(CLI::IsMember(core::MotionPipelineParams::preset_names()));
-  cmd->add_option("--seed", opt->seed, "Seed of the random subsampling");
+  cmd->add_option("--seed", opt->seed, "Seed of the random subsampling")->check(seed_validator());
   cmd->add_option("--threads", opt->threads, "Threads for per-object estimation (0 = all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_flag("--no-clouds", opt->no_clouds, "Do not write labelled clouds");
   add_input_flags(cmd, opt->input);

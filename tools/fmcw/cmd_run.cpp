@@ -49,7 +49,7 @@ Action add_run_command(CLI::App& app) {
   cmd->add_option("scenario", opt->scenario, "Scenario YAML file")->required();
   cmd->add_option("-o,--output", opt->output, "Output folder (the dataset goes to DIR/dataset)")->required();
   cmd->add_option("--frames", opt->frames, "Frames to simulate (default: the scenario's)")->check(CLI::PositiveNumber);
-  CLI::Option* seed = cmd->add_option("--seed", opt->seed, "Noise seed (default: the scenario's)");
+  CLI::Option* seed = cmd->add_option("--seed", opt->seed, "Noise seed (default: the scenario's)")->check(seed_validator());
   cmd->add_option("--methods", opt->methods, "Methods to run, comma-separated (default: all; paper is always included)")
       ->delimiter(',')
       ->check(CLI::IsMember(core::MotionPipelineParams::preset_names()));

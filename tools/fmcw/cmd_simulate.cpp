@@ -22,6 +22,7 @@ struct SimulateOptions {
   std::uint64_t seed = 0;
   std::string shard;
   std::string task;
+  std::uint64_t max_memory_mb = 0;
 };
 
 volatile std::sig_atomic_t g_stop_signal = 0;
@@ -60,14 +61,15 @@ std::pair<int, int> parse_shard(const std::string& text, const std::string& opti
 }
 
 // Simulates one scenario into opt.dataset.output_dir; the exit status.
-int simulate_one(const std::string& scenario, sim::DatasetOptions options) {
-  const sim::LoadedScenario loaded = sim::load_scenario(scenario);
+int simulate_one(const std::string& scenario, sim::DatasetOptions options, std::uint64_t max_memory_mb) {
+  const sim::LoadedScenario loaded = sim::load_scenario(scenario, max_memory_mb << 20);
   say_notices(loaded.notices);
   options.stop_requested = [] { return g_stop_signal != 0; };
   Progress progress("simulate " + loaded.scenario.name);
   const sim::DatasetSummary summary =
       sim::write_dataset(loaded, options, [&](int done, int total) { progress.update(done, total); });
   const std::string& dir = options.output_dir;
+  if (!summary.resume_note.empty()) say_notices({summary.resume_note});
   if (summary.interrupted) {
     std::cerr << "fmcw: interrupted by " << (g_stop_signal == SIGTERM ? "SIGTERM" : "SIGINT") << ": " << dir << " holds "
               << summary.frames_written << " of " << summary.frames_total
@@ -105,7 +107,7 @@ int simulate_set(const SimulateOptions& opt) {
     if (static_cast<int>(k % static_cast<std::size_t>(tasks)) != task) continue;
     sim::DatasetOptions options = opt.dataset;
     options.output_dir = opt.dataset.output_dir + "/" + scenarios[k].name;
-    const int status = simulate_one((set / scenarios[k].file).string(), options);
+    const int status = simulate_one((set / scenarios[k].file).string(), options, opt.max_memory_mb);
     if (status != 0) return status;
     ++done;
   }
@@ -122,13 +124,17 @@ Action add_simulate_command(CLI::App& app) {
   cmd->add_option("scenario", opt->scenario, "Scenario YAML file, or a set folder written by fmcw generate")->required();
   cmd->add_option("-o,--output", opt->dataset.output_dir, "Output dataset folder")->required();
   cmd->add_option("--frames", opt->dataset.frames, "Frames to simulate (default: the scenario's)")->check(CLI::PositiveNumber);
-  CLI::Option* seed = cmd->add_option("--seed", opt->seed, "Noise seed (default: the scenario's)");
+  CLI::Option* seed = cmd->add_option("--seed", opt->seed, "Noise seed (default: the scenario's)")->check(seed_validator());
   cmd->add_option("--threads", opt->dataset.num_threads, "Ray-casting threads (0 = all cores)")->check(CLI::NonNegativeNumber);
   CLI::Option* overwrite = cmd->add_flag("--overwrite", opt->dataset.overwrite, "Write into a non-empty output folder");
   cmd->add_flag("--resume", opt->dataset.resume,
                 "Continue a stopped run in the output folder (same arguments); the result is byte-identical to an "
                 "uninterrupted run")
       ->excludes(overwrite);
+  cmd->add_option("--max-memory", opt->max_memory_mb,
+                  "Memory budget [MB] for the scenario's estimate (rig pixels, placed triangles); default: half of "
+                  "this machine's memory")
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 30));
   cmd->add_option("--shard", opt->shard,
                   "Write only part I of N of the dataset (frames I*F/N to (I+1)*F/N); join the parts with fmcw merge");
   cmd->add_option("--task", opt->task,
@@ -145,7 +151,7 @@ Action add_simulate_command(CLI::App& app) {
       return simulate_set(*opt);
     }
     if (!opt->task.empty()) throw std::invalid_argument("--task is for a set folder written by fmcw generate");
-    return simulate_one(opt->scenario, opt->dataset);
+    return simulate_one(opt->scenario, opt->dataset, opt->max_memory_mb);
   };
 }
 

@@ -72,7 +72,7 @@ CLI::App* add_blind_zone(CLI::App* study, std::shared_ptr<BlindZoneOptions> opt)
       ->capture_default_str();
   cmd->add_option("--range-sigma", p.scene.measurement.range_sigma_m, "Range noise [m] (Table I: 0.025)")
       ->capture_default_str();
-  cmd->add_option("--seed", p.scene.seed, "Noise seed")->capture_default_str();
+  cmd->add_option("--seed", p.scene.seed, "Noise seed")->check(seed_validator())->capture_default_str();
   cmd->add_flag("!--no-noise-free", p.noise_free_too, "Skip the noise-free evaluation of each frame");
   return cmd;
 }

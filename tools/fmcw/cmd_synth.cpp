@@ -22,7 +22,7 @@ Action add_synth_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("synth", "Write an analytic synthetic frame (paper rig, moving boxes) as PCD");
   cmd->add_option("-o,--output", opt->output, "Output .pcd file")->required();
   cmd->add_option("--objects", opt->objects, "Moving boxes")->check(CLI::Range(0, 1000));
-  cmd->add_option("--seed", opt->seed, "Seed for placement and noise");
+  cmd->add_option("--seed", opt->seed, "Seed for placement and noise")->check(seed_validator());
   cmd->add_flag("--noise-free", opt->noise_free, "No range and velocity noise");
   return [opt] {
     core::SyntheticSceneParams scene = core::benchmark_scene(opt->objects, opt->seed);

@@ -21,6 +21,9 @@ struct SemanticClass {
 /// Class 0: no return, or a surface with no class.
 constexpr std::uint16_t kUnlabeledClass = 0;
 
+/// Longest class name (the name is a cell of CSV tables and a key of dataset.yaml).
+constexpr std::size_t kMaxClassNameLength = 64;
+
 class ClassTable {
  public:
   /// The built-in classes (docs/FORMATS.md): the road scene's static classes and its actors,
@@ -29,7 +32,9 @@ class ClassTable {
   static ClassTable builtin();
 
   /// Adds a class of a scenario's own. Throws std::invalid_argument when the name or the id is
-  /// taken already (naming the class that has it), or the id is 0 or above 65535.
+  /// taken already (naming the class that has it), the id is 0 or above 65535, or the name is
+  /// empty, longer than kMaxClassNameLength or holds a comma, a double quote or a control
+  /// character (names are cells of CSV tables).
   void add(const std::string& name, std::uint64_t id);
   /// The id of a class name; nullopt when the table has no such class.
   std::optional<std::uint16_t> find(const std::string& name) const;

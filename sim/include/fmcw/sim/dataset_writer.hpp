@@ -34,6 +34,9 @@ struct DatasetSummary {
   bool interrupted = false; ///< stop_requested said so before the last frame
   double seconds = 0.0;
   std::size_t returns = 0;  ///< valid pixels over the frames simulated in this run
+  /// With resume: the first counted frame that was missing, cut short or another frame's, and
+  /// that it was simulated again from there ("" when every counted frame was whole).
+  std::string resume_note;
 };
 
 /// Simulates the frames and writes the dataset. Each frame file is written under a temporary

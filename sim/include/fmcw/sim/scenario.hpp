@@ -101,7 +101,10 @@ struct LoadedScenario {
   /// not animate, morph targets, ...): one line each, for the caller to say once.
   std::vector<std::string> notices;
 };
-LoadedScenario load_scenario(const std::string& path);
+/// max_memory_bytes: the memory the scenario may take by its estimate (rig pixels and placed
+/// triangles, counted before they are allocated); 0 is half of this machine's memory. Over it,
+/// std::invalid_argument names the file, line and key and the estimate.
+LoadedScenario load_scenario(const std::string& path, std::uint64_t max_memory_bytes = 0);
 
 /// Loads a rig config (the `rig:` file of a scenario): heads with mount, fov_deg, resolution_deg,
 /// max_range_m, rate_hz.
