@@ -2,6 +2,8 @@
 // PLY / SemanticKITTI / PCD out, with one clear error for bad input.
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -149,6 +151,30 @@ TEST_F(CliFormats, ExportWritesEachFormatForEveryFrame) {
                          [](float p, float q) { return (std::isnan(p) && std::isnan(q)) || p == q; }));
 }
 
+// A 2 GiB file is refused from its size or its first line without being read: the CLI's peak
+// memory stays far below the file's size.
+TEST_F(CliFormats, HugeInputIsRefusedWithoutBeingRead) {
+  const off_t two_gib = off_t{1} << 31;
+  write("big.bin", "");
+  ASSERT_EQ(::truncate(path("big.bin").c_str(), two_gib), 0);
+  write("big.pcd", "VERSION");
+  ASSERT_EQ(::truncate(path("big.pcd").c_str(), two_gib), 0);
+  CliResult r = run_cli("process --format aeva " + path("big.bin") + " -o " + path("o1"));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("big.bin: size 2147483648 bytes is not a whole number of Aeva records"), std::string::npos)
+      << r.output;
+  r = run_cli("process " + path("big.pcd") + " -o " + path("o2"));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("big.pcd:1: header line too long"), std::string::npos) << r.output;
+  fs::remove(path("big.bin"));
+  fs::remove(path("big.pcd"));
+  EXPECT_FALSE(fs::exists(dir_ / "o1"));
+  EXPECT_FALSE(fs::exists(dir_ / "o2"));
+  rusage children{};
+  ::getrusage(RUSAGE_CHILDREN, &children);
+  EXPECT_LT(children.ru_maxrss, 200 * 1024) << "peak resident memory of the CLI [KiB]";
+}
+
 TEST_F(CliFormats, BadInputGetsOneErrorLine) {
   fmcw::io::write_aeva(path("scan.bin"), to_aeva(street().scan));
   {
@@ -170,6 +196,8 @@ TEST_F(CliFormats, BadInputGetsOneErrorLine) {
        "no labels: the cloud has neither 'label'"},
       {"export " + path("nothing") + " -o " + path("o5") + " --to ply", "does not exist"},
       {"process --format aeva " + dir_.string() + " -o " + path("o6"), "bad.bin"},
+      {"process --format aeva --res-h 1e-9 " + path("scan.bin") + " -o " + path("o7"),
+       "grid projection: resolution_horizontal_deg 1e-09 over fov_horizontal_deg 120 gives 1.2e+11 columns"},
   };
   for (const Case& c : cases) {
     const CliResult r = run_cli(c.args);
@@ -178,6 +206,7 @@ TEST_F(CliFormats, BadInputGetsOneErrorLine) {
     EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
   }
   EXPECT_FALSE(fs::exists(dir_ / "o4" / "velodyne" / "scan.bin"));
+  EXPECT_FALSE(fs::exists(dir_ / "o7"));
 }
 
 }  // namespace
