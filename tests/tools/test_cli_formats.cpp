@@ -29,12 +29,13 @@ constexpr double kDeg = M_PI / 180.0;
 const Eigen::Vector3d kEgo(7.0, -0.6, 0.0);
 
 // One 120 x 30 deg head at 0.2 deg, 1.8 m above the ground, driving through a walled street
-// with one car crossing: what an Aeva sensor would see, with the scan lines as rows.
-fmcw::core::Frame street() {
+// with one car crossing: what an Aeva sensor would see, with the scan lines as rows. Another
+// field of view gives a frame of another rig.
+fmcw::core::Frame street(double fov_horizontal_deg = 120.0, double fov_vertical_deg = 30.0) {
   fmcw::core::SyntheticSceneParams p;
   fmcw::core::HeadModel head;
-  head.fov_horizontal_rad = 120.0 * kDeg;
-  head.fov_vertical_rad = 30.0 * kDeg;
+  head.fov_horizontal_rad = fov_horizontal_deg * kDeg;
+  head.fov_vertical_rad = fov_vertical_deg * kDeg;
   p.rig.heads = {head};
   p.ground_z_m = -1.8;
   fmcw::core::SyntheticBox wall;
@@ -149,6 +150,36 @@ TEST_F(CliFormats, ExportWritesEachFormatForEveryFrame) {
   EXPECT_EQ(back.scan.radial_velocity_mps.size(), a.scan.radial_velocity_mps.size());
   EXPECT_TRUE(std::equal(a.scan.x_m.begin(), a.scan.x_m.end(), back.scan.x_m.begin(),
                          [](float p, float q) { return (std::isnan(p) && std::isnan(q)) || p == q; }));
+}
+
+// process compares every frame with the first: a frame of another rig (shape or heads) stops
+// the run with one error naming both, and nothing of the run is left behind.
+TEST_F(CliFormats, ProcessRefusesAFrameOfAnotherRig) {
+  const fmcw::core::Frame first = street();
+  fmcw::core::Frame moved = first;
+  moved.scan.heads[0].T_rig_head.translation().x() = 1.5;
+  struct Case {
+    fmcw::core::Frame second;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {street(8.0, 4.0),
+       "b.pcd: 20 x 40 pixels (rows x cols) with head 'head' [0, 40) differs from " + path("in/a.pcd") +
+           ", the first frame: 150 x 600 pixels (rows x cols) with head 'head' [0, 600); every frame must come from "
+           "one rig"},
+      {moved, "b.pcd: head 'head' [0, 600) is mounted at (1.5, 0, 0), rotation quaternion (1, 0, 0, 0) where the first "
+              "frame's is at (0, 0, 0), rotation quaternion (1, 0, 0, 0)"},
+  };
+  for (const Case& c : cases) {
+    fs::remove_all(dir_ / "in");
+    fs::create_directories(dir_ / "in");
+    fmcw::io::write_frame(path("in/a.pcd"), first);
+    fmcw::io::write_frame(path("in/b.pcd"), c.second);
+    const CliResult r = run_cli("process " + path("in") + " -o " + path("out"));
+    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_NE(r.output.find("fmcw: error: " + path("in/") + c.message), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "out")) << "the run leaves nothing behind";
+  }
 }
 
 // A 2 GiB file is refused from its size or its first line without being read: the CLI's peak
