@@ -10,11 +10,16 @@ namespace fmcw::core {
 namespace {
 constexpr double kRadToDeg = 180.0 / M_PI;
 // A grid larger than this is a resolution typo, not a sensor: refuse it before allocating.
-constexpr double kMaxPixels = 64.0 * 1024.0 * 1024.0;
+constexpr std::int64_t kMaxPixels = std::int64_t{64} * 1024 * 1024;
 
-// Bins a span must divide into: whole, so that bins do not depend on rounding.
-int whole_bins(double span_deg, double bin_deg, const char* span_name, const char* bin_name) {
+// Bins a span must divide into: whole, so that bins do not depend on rounding. Counted in
+// double and bounded before the conversion to int, so that a bin typed in the wrong unit is
+// refused with the size it would give, not an overflowed int.
+int whole_bins(double span_deg, double bin_deg, const char* span_name, const char* bin_name, const char* bins) {
   const double n = span_deg / bin_deg;
+  FMCW_CHECK_ARG(n <= static_cast<double>(kMaxPixels), "grid projection: ", bin_name, " ", bin_deg, " over ", span_name,
+                 " ", span_deg, " gives ", n, " ", bins, ", more than the ", kMaxPixels,
+                 " pixels a grid may have; choose a coarser resolution");
   FMCW_CHECK_ARG(std::abs(n - std::round(n)) < 1e-6 * std::max(1.0, n), "grid projection: ", span_name, " (",
                  span_deg, ") must be a whole multiple of ", bin_name, " (", bin_deg, ")");
   return static_cast<int>(std::round(n));
@@ -42,16 +47,18 @@ void GridProjectionParams::validate() const {
                  "grid projection: resolution_vertical_deg must be in (0, fov_vertical_deg], got ",
                  resolution_vertical_deg);
   FMCW_CHECK_ARG(lines >= 0, "grid projection: lines must be >= 0 (0 = from the data), got ", lines);
-  whole_bins(fov_horizontal_deg, resolution_horizontal_deg, "fov_horizontal_deg", "resolution_horizontal_deg");
-  whole_bins(fov_vertical_deg, resolution_vertical_deg, "fov_vertical_deg", "resolution_vertical_deg");
+  // Whole numbers of bins, each within the pixel limit.
+  cols();
+  elevation_rows();
 }
 
 int GridProjectionParams::cols() const {
-  return whole_bins(fov_horizontal_deg, resolution_horizontal_deg, "fov_horizontal_deg", "resolution_horizontal_deg");
+  return whole_bins(fov_horizontal_deg, resolution_horizontal_deg, "fov_horizontal_deg", "resolution_horizontal_deg",
+                    "columns");
 }
 
 int GridProjectionParams::elevation_rows() const {
-  return whole_bins(fov_vertical_deg, resolution_vertical_deg, "fov_vertical_deg", "resolution_vertical_deg");
+  return whole_bins(fov_vertical_deg, resolution_vertical_deg, "fov_vertical_deg", "resolution_vertical_deg", "rows");
 }
 
 GridProjection project_to_grid(const PointList& points, const GridProjectionParams& params) {
@@ -78,8 +85,9 @@ GridProjection project_to_grid(const PointList& points, const GridProjectionPara
     rows = params.lines > 0 ? params.lines : max_line + 1;
   }
   const int cols = params.cols();
-  FMCW_CHECK_ARG(static_cast<double>(rows) * cols <= kMaxPixels, "grid projection: ", rows, " x ", cols,
-                 " pixels is too large; choose a coarser resolution");
+  const double pixels = static_cast<double>(rows) * static_cast<double>(cols);
+  FMCW_CHECK_ARG(pixels <= static_cast<double>(kMaxPixels), "grid projection: ", rows, " x ", cols, " pixels (", pixels,
+                 ") is more than the ", kMaxPixels, " a grid may have; choose a coarser resolution");
 
   GridProjection out;
   out.stats.points = n;

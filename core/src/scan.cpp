@@ -70,6 +70,8 @@ std::vector<int> Scan::column_group_of() const {
 
 void Scan::validate_layout() const {
   FMCW_CHECK_ARG(rows >= 0 && cols >= 0, "scan: negative size ", rows, " x ", cols);
+  // A NaN stamp would make every frame interval NaN, and tracking start over at every frame.
+  FMCW_CHECK_ARG(std::isfinite(stamp_s), "scan: stamp_s is ", stamp_s, ", expected a finite time [s]");
   const std::size_t n = size();
   const auto check_size = [n](std::size_t got, const char* field) {
     FMCW_CHECK_ARG(got == n, "scan: field '", field, "' has ", got, " values, expected rows*cols = ", n);

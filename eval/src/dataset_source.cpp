@@ -104,7 +104,9 @@ DatasetSource::DatasetSource(const std::string& dir, int max_frames) {
 
 core::Frame DatasetSource::frame(std::size_t k) {
   const std::string& file = files_.at(k);
+  if (!layout_.has_first() && k > 0) layout_.check(io::read_frame(files_.front()).scan, files_.front());
   core::Frame f = io::read_frame(file);
+  layout_.check(f.scan, file);
   if (!f.truth) {
     throw std::invalid_argument(file + ": no ground-truth fields (gt_range gt_v gt_vx gt_vy gt_vz instance moving); "
                                 "evaluation needs a simulated frame");

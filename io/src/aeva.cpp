@@ -1,5 +1,6 @@
 #include "fmcw/io/aeva.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -9,6 +10,7 @@
 
 #include "fmcw/core/check.hpp"
 #include "fmcw/io/atomic_file.hpp"
+#include "fmcw/io/input_file.hpp"
 
 namespace fmcw::io {
 
@@ -84,48 +86,55 @@ AevaLayout detect_aeva_layout(const std::string& path, std::uintmax_t size_bytes
 }
 
 AevaRecords read_aeva(const std::string& path, AevaLayout layout) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) throw std::invalid_argument(concat(path, ": cannot open Aeva file: ", std::strerror(errno)));
-  const std::streamoff size = in.tellg();
-  std::error_code ec;
-  if (size < 0 || !fs::is_regular_file(path, ec)) throw std::invalid_argument(concat(path, ": not a readable file"));
-  std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
-  in.seekg(0);
-  in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  if (!in) throw std::runtime_error(concat(path, ": read failed"));
-  if (bytes.empty()) throw std::invalid_argument(concat(path, ": empty Aeva file (no records)"));
-  if (layout == AevaLayout::kAuto) layout = detect_aeva_layout(path, bytes.size());
+  // The size decides the layout and the record count before a byte is read: a file of the wrong
+  // size costs an error, not its size in memory.
+  const std::uintmax_t size = regular_file_size(path, "Aeva file");
+  if (size == 0) throw std::invalid_argument(concat(path, ": empty Aeva file (no records)"));
+  if (layout == AevaLayout::kAuto) layout = detect_aeva_layout(path, size);
   const std::size_t stride = record_bytes(layout);
-  if (bytes.size() % stride != 0) {
-    throw std::invalid_argument(concat(path, ": size ", bytes.size(), " bytes is not a multiple of the ", stride,
-                                       "-byte Aeva record (", bytes.size() / stride, " whole records and ",
-                                       bytes.size() % stride, " bytes left over)"));
+  if (size % stride != 0) {
+    throw std::invalid_argument(concat(path, ": size ", size, " bytes is not a multiple of the ", stride,
+                                       "-byte Aeva record (", size / stride, " whole records and ", size % stride,
+                                       " bytes left over)"));
   }
-  const std::size_t n = bytes.size() / stride;
+  const auto n = static_cast<std::size_t>(size / stride);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(concat(path, ": cannot open Aeva file: ", std::strerror(errno)));
   AevaRecords r;
   for (auto* column : {&r.x_m, &r.y_m, &r.z_m, &r.reflectivity, &r.velocity_mps}) column->resize(n);
   r.time_offset_ns.resize(n);
   r.line_index.resize(n);
   if (layout == AevaLayout::k29) r.intensity.resize(n);
   static const char* const kFloatNames[] = {"x", "y", "z", "reflectivity", "velocity"};
-  for (std::size_t i = 0; i < n; ++i) {
-    const unsigned char* p = bytes.data() + i * stride;
-    float* floats[] = {&r.x_m[i], &r.y_m[i], &r.z_m[i], &r.reflectivity[i], &r.velocity_mps[i]};
-    for (int f = 0; f < 5; ++f) {
-      *floats[f] = load_f32(p + 4 * f);
-      if (!std::isfinite(*floats[f])) {
-        throw std::invalid_argument(concat(path, ": record ", i, " (byte ", i * stride + 4 * static_cast<std::size_t>(f),
-                                           "): field '", kFloatNames[f], "' is ", *floats[f],
-                                           ", expected a finite number"));
-      }
+  // Records are read a block at a time into the columns, never as a whole copy of the file.
+  constexpr std::size_t kBlockRecords = 1 << 15;
+  std::vector<unsigned char> block(std::min(n, kBlockRecords) * stride);
+  for (std::size_t first = 0; first < n; first += kBlockRecords) {
+    const std::size_t count = std::min(kBlockRecords, n - first);
+    in.read(reinterpret_cast<char*>(block.data()), static_cast<std::streamsize>(count * stride));
+    if (static_cast<std::size_t>(in.gcount()) != count * stride) {
+      throw std::runtime_error(concat(path, ": read failed at byte ", first * stride + static_cast<std::size_t>(in.gcount()),
+                                      " of ", size, " (did the file change while it was read?)"));
     }
-    r.time_offset_ns[i] = static_cast<std::int32_t>(load_u32(p + 20));
-    r.line_index[i] = p[24];
-    if (layout == AevaLayout::k29) {
-      r.intensity[i] = load_f32(p + 25);
-      if (!std::isfinite(r.intensity[i])) {
-        throw std::invalid_argument(concat(path, ": record ", i, " (byte ", i * stride + 25, "): field 'intensity' is ",
-                                           r.intensity[i], ", expected a finite number"));
+    for (std::size_t i = first; i < first + count; ++i) {
+      const unsigned char* p = block.data() + (i - first) * stride;
+      float* floats[] = {&r.x_m[i], &r.y_m[i], &r.z_m[i], &r.reflectivity[i], &r.velocity_mps[i]};
+      for (int f = 0; f < 5; ++f) {
+        *floats[f] = load_f32(p + 4 * f);
+        if (!std::isfinite(*floats[f])) {
+          throw std::invalid_argument(concat(path, ": record ", i, " (byte ", i * stride + 4 * static_cast<std::size_t>(f),
+                                             "): field '", kFloatNames[f], "' is ", *floats[f],
+                                             ", expected a finite number"));
+        }
+      }
+      r.time_offset_ns[i] = static_cast<std::int32_t>(load_u32(p + 20));
+      r.line_index[i] = p[24];
+      if (layout == AevaLayout::k29) {
+        r.intensity[i] = load_f32(p + 25);
+        if (!std::isfinite(r.intensity[i])) {
+          throw std::invalid_argument(concat(path, ": record ", i, " (byte ", i * stride + 25, "): field 'intensity' is ",
+                                             r.intensity[i], ", expected a finite number"));
+        }
       }
     }
   }

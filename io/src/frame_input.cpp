@@ -27,6 +27,7 @@ std::vector<std::string> list_input_files(const std::string& input, InputFormat 
 }
 
 core::PointList points_from_pcd(const PcdCloud& cloud, const std::string& source) {
+  check_single_count(cloud, {"x", "y", "z", "v", "intensity", "t"}, source, "points need");
   for (const char* required : {"x", "y", "z", "v"}) {
     if (cloud.find(required) == nullptr) {
       throw std::invalid_argument(concat(source, ": missing field '", required, "' (points need x y z v)"));
@@ -73,7 +74,11 @@ InputFrame read_input_frame(const std::string& path, const InputOptions& options
     params.negate_velocity = options.negate_velocity;
     projection = read_aeva_scan(path, params);
   } else {
-    core::PointList points = points_from_pcd(read_pcd(path), path);
+    const PcdCloud cloud = read_pcd(path);
+    // A stamp comment is checked as the organized reader checks it, so that no reader takes a
+    // file the other refuses. The projected scan keeps stamp 0, as it always has.
+    stamp_from_comments(cloud, path);
+    core::PointList points = points_from_pcd(cloud, path);
     if (options.negate_velocity) {
       for (float& v : points.radial_velocity_mps) v = -v;
     }

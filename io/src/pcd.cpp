@@ -14,6 +14,7 @@
 
 #include "fmcw/core/check.hpp"
 #include "fmcw/io/atomic_file.hpp"
+#include "fmcw/io/input_file.hpp"
 
 namespace fmcw::io {
 
@@ -104,6 +105,59 @@ std::string fmt_double(double v) {
   return out.str();
 }
 
+// Header lines are short; a longer one means the file is not a PCD (or has no newline at all).
+constexpr std::size_t kMaxHeaderLineBytes = 4096;
+// The whole header, comments included, is small too: a file of a billion comment lines is not.
+constexpr std::size_t kMaxHeaderBytes = std::size_t{1} << 20;
+// An ASCII value takes at most this many characters ("-1.2345678901234567e-308" takes 24).
+constexpr std::size_t kMaxAsciiValueBytes = 64;
+
+// The binary body read front to back through one block of memory, whatever the file's size:
+// values are taken where they lie, fields that are not read are skipped.
+class BlockReader {
+ public:
+  BlockReader(std::istream& in, const std::string& path, std::size_t body_bytes)
+      : in_(in), path_(path), buf_(std::min(body_bytes, kBlockBytes)) {}
+
+  // The next k bytes (k <= the block size), contiguous.
+  const unsigned char* take(std::size_t k) {
+    if (end_ - pos_ < k) refill(k);
+    const unsigned char* p = buf_.data() + pos_;
+    pos_ += k;
+    return p;
+  }
+
+  void skip(std::size_t k) {
+    const std::size_t held = end_ - pos_;
+    if (k <= held) {
+      pos_ += k;
+      return;
+    }
+    pos_ = end_ = 0;
+    in_.seekg(static_cast<std::streamoff>(k - held), std::ios::cur);
+  }
+
+ private:
+  static constexpr std::size_t kBlockBytes = std::size_t{1} << 20;
+
+  void refill(std::size_t k) {
+    const std::size_t held = end_ - pos_;
+    std::memmove(buf_.data(), buf_.data() + pos_, held);
+    pos_ = 0;
+    in_.read(reinterpret_cast<char*>(buf_.data() + held), static_cast<std::streamsize>(buf_.size() - held));
+    end_ = held + static_cast<std::size_t>(in_.gcount());
+    in_.clear(in_.rdstate() & ~(std::ios::eofbit | std::ios::failbit));  // a short last block is fine
+    // The size was checked before the body was read: a shortfall is a file that changed meanwhile.
+    if (end_ < k) throw std::runtime_error(concat(path_, ": read error in PCD data (did the file change while it was read?)"));
+  }
+
+  std::istream& in_;
+  const std::string& path_;
+  std::vector<unsigned char> buf_;
+  std::size_t pos_ = 0;
+  std::size_t end_ = 0;
+};
+
 }  // namespace
 
 const PcdField* PcdCloud::find(const std::string& name) const {
@@ -114,6 +168,7 @@ const PcdField* PcdCloud::find(const std::string& name) const {
 }
 
 PcdCloud read_pcd(const std::string& path) {
+  regular_file_size(path, "PCD file");  // before opening: a FIFO would block, /dev/zero never ends
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::invalid_argument(concat(path, ": cannot open PCD file: ", std::strerror(errno)));
 
@@ -125,9 +180,15 @@ PcdCloud read_pcd(const std::string& path) {
   int line_no = 0;
   std::string data_kind;
   const char* required[] = {"FIELDS", "SIZE", "TYPE", "WIDTH", "HEIGHT", "POINTS", "DATA"};
-  while (std::getline(in, line)) {
+  std::size_t header_bytes = 0;
+  for (LineRead got; (got = read_bounded_line(in, line, kMaxHeaderLineBytes)) != LineRead::kEnd;) {
     ++line_no;
-    if (line.size() > 4096) throw std::invalid_argument(concat(path, ":", line_no, ": header line too long; not a PCD file?"));
+    if (got == LineRead::kTooLong) {
+      throw std::invalid_argument(concat(path, ":", line_no, ": header line too long; not a PCD file?"));
+    }
+    header_bytes += line.size() + 1;
+    FMCW_CHECK_ARG(header_bytes <= kMaxHeaderBytes, path, ":", line_no, ": header longer than ", kMaxHeaderBytes,
+                   " bytes without a DATA line; not a PCD file?");
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) continue;
     if (line[0] == '#') {
@@ -225,33 +286,43 @@ PcdCloud read_pcd(const std::string& path) {
     throw std::invalid_argument(concat(where("DATA"), " '", data_kind, "' is not supported (use binary or ascii)"));
   }
   for (const auto& rf : raw) {
-    if (rf.count == 1 && rf.name != "_") cloud.fields.push_back(PcdField{rf.name, rf.type, rf.size, std::vector<double>(n)});
+    if (rf.name == "_") continue;
+    if (rf.count == 1) {
+      cloud.fields.push_back(PcdField{rf.name, rf.type, rf.size, std::vector<double>(n)});
+    } else {
+      cloud.multi_count_fields.emplace_back(rf.name, rf.count);
+    }
   }
 
   if (data_kind == "binary") {
-    const auto needed = static_cast<std::streamoff>(n * stride);
-    std::vector<unsigned char> buf(static_cast<std::size_t>(available));
-    in.read(reinterpret_cast<char*>(buf.data()), static_cast<std::streamsize>(buf.size()));
-    FMCW_CHECK_ARG(static_cast<std::size_t>(in.gcount()) == buf.size(), path, ": read error in PCD data");
-    const bool zero_padding = std::all_of(buf.begin() + needed, buf.end(), [](unsigned char b) { return b == 0; });
-    FMCW_CHECK_ARG(available == needed || zero_padding, path, ": PCD data is ", available,
-                   " bytes but the header describes ", needed, " (", n, " points of ", stride,
-                   " bytes); the header does not match the data");
-    std::size_t offset = 0;
-    std::size_t out_field = 0;
-    for (const auto& rf : raw) {
-      if (rf.count == 1 && rf.name != "_") {
-        auto& values = cloud.fields[out_field++].values;
-        for (std::size_t i = 0; i < n; ++i) values[i] = decode(&buf[i * stride + offset], rf.type, rf.size);
-      }
-      offset += static_cast<std::size_t>(rf.size) * static_cast<std::size_t>(rf.count);
-    }
-  } else {  // ascii
+    const auto needed = static_cast<std::size_t>(n * stride);
+    BlockReader body(in, path, static_cast<std::size_t>(available));
     for (std::size_t i = 0; i < n; ++i) {
-      if (!std::getline(in, line)) {
+      std::size_t out_field = 0;
+      for (const auto& rf : raw) {
+        const auto bytes = static_cast<std::size_t>(rf.size) * static_cast<std::size_t>(rf.count);
+        if (rf.count == 1 && rf.name != "_") {
+          cloud.fields[out_field++].values[i] = decode(body.take(bytes), rf.type, rf.size);
+        } else {
+          body.skip(bytes);
+        }
+      }
+    }
+    const auto padding = static_cast<std::size_t>(available) - needed;  // under kMaxPclPadding
+    const unsigned char* pad = body.take(padding);
+    FMCW_CHECK_ARG(std::all_of(pad, pad + padding, [](unsigned char b) { return b == 0; }), path, ": PCD data is ",
+                   available, " bytes but the header describes ", needed, " (", n, " points of ", stride,
+                   " bytes); the header does not match the data");
+  } else {  // ascii
+    const std::size_t max_line = kMaxHeaderLineBytes + kMaxAsciiValueBytes * tokens_per_point;
+    for (std::size_t i = 0; i < n; ++i) {
+      const LineRead got = read_bounded_line(in, line, max_line);
+      if (got == LineRead::kEnd) {
         throw std::invalid_argument(concat(path, ": truncated PCD: header promises ", n, " points, file ends after ", i));
       }
       ++line_no;
+      FMCW_CHECK_ARG(got == LineRead::kLine, path, ":", line_no, ": point ", i, ": line longer than ", max_line,
+                     " bytes for ", tokens_per_point, " values; the data does not match the header");
       const auto words = split_words(line);
       FMCW_CHECK_ARG(words.size() == tokens_per_point, path, ":", line_no, ": point ", i, " has ", words.size(),
                      " values, expected ", tokens_per_point);
@@ -307,6 +378,30 @@ void write_pcd(const std::string& path, const PcdCloud& cloud) {
   });
 }
 
+void check_single_count(const PcdCloud& cloud, const std::vector<std::string>& names, const std::string& source,
+                        const std::string& reader) {
+  for (const auto& [name, count] : cloud.multi_count_fields) {
+    if (std::find(names.begin(), names.end(), name) != names.end()) {
+      throw std::invalid_argument(concat(source, ": field '", name, "' has COUNT ", count, "; ", reader, " COUNT 1"));
+    }
+  }
+}
+
+double stamp_from_comments(const PcdCloud& cloud, const std::string& source) {
+  double stamp_s = 0.0;
+  for (const auto& c : cloud.comments) {
+    const auto w = split_words(c);
+    if (w.empty() || w[0] != "fmcw_stamp") continue;
+    char* end = nullptr;
+    stamp_s = w.size() == 2 ? std::strtod(w[1].c_str(), &end) : 0.0;
+    // A NaN or Inf stamp would make every frame interval NaN and start tracking over quietly.
+    if (end == nullptr || *end != '\0' || !std::isfinite(stamp_s)) {
+      throw std::invalid_argument(concat(source, ": comment '# ", c, "': the stamp must be a finite number of seconds"));
+    }
+  }
+  return stamp_s;
+}
+
 const std::vector<std::string>& known_frame_fields() {
   static const std::vector<std::string> names = {"x", "y", "z", "range", "v", "intensity", "t", "gt_range", "gt_v",
                                                  "gt_vx", "gt_vy", "gt_vz", "instance", "moving", "class", "label"};
@@ -322,6 +417,7 @@ core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source) {
       throw std::invalid_argument(concat(source, ": unknown field '", f.name, "' (known: ", list, ")"));
     }
   }
+  check_single_count(cloud, known_frame_fields(), source, "a frame's fields must have");
   for (const char* required : {"x", "y", "z", "v"}) {
     FMCW_CHECK_ARG(cloud.find(required) != nullptr, source, ": missing field '", required,
                    "' (a frame needs at least x y z v)");
@@ -334,12 +430,10 @@ core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source) {
   core::Scan& scan = frame.scan;
   scan = core::Scan::make_empty(cloud.height, cloud.width);
   scan.heads.clear();
+  scan.stamp_s = stamp_from_comments(cloud, source);
   for (const auto& c : cloud.comments) {
     const auto w = split_words(c);
-    if (w.empty()) continue;
-    if (w[0] == "fmcw_stamp" && w.size() == 2) {
-      scan.stamp_s = std::strtod(w[1].c_str(), nullptr);
-    } else if (w[0] == "fmcw_head") {
+    if (!w.empty() && w[0] == "fmcw_head") {
       FMCW_CHECK_ARG(w.size() == 12, source, ": comment '# ", c,
                      "': expected fmcw_head NAME COL_BEGIN COL_END STITCHED TX TY TZ QW QX QY QZ");
       core::HeadInfo head;

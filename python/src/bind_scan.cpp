@@ -111,7 +111,19 @@ void bind_scan(py::module_& m) {
       .def_readonly("rows", &core::Scan::rows)
       .def_readonly("cols", &core::Scan::cols)
       .def_property_readonly("shape", [](const core::Scan& s) { return py::make_tuple(s.rows, s.cols); })
-      .def_readwrite("stamp", &core::Scan::stamp_s)
+      .def_property(
+          "stamp", [](const core::Scan& s) { return s.stamp_s; },
+          [](core::Scan& s, double stamp_s) {
+            const double before = s.stamp_s;
+            s.stamp_s = stamp_s;
+            try {
+              s.validate_layout();  // names a stamp that is not finite
+            } catch (...) {
+              s.stamp_s = before;
+              throw;
+            }
+          },
+          "the scan's time [s]; finite")
       .def_property_readonly("x", [](const core::Scan& s) { return to_image(s.x_m, s.rows, s.cols); })
       .def_property_readonly("y", [](const core::Scan& s) { return to_image(s.y_m, s.rows, s.cols); })
       .def_property_readonly("z", [](const core::Scan& s) { return to_image(s.z_m, s.rows, s.cols); })

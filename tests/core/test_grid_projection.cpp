@@ -149,6 +149,36 @@ TEST(GridProjection, BadInputNamesThePointAndField) {
             std::string::npos);
 }
 
+// A bin typed in the wrong unit gives a grid of billions of pixels: refused naming the
+// parameter and the size it would give, computed without integer overflow.
+TEST(GridProjection, HugeGridIsRefusedNamingTheParameterAndTheSize) {
+  PointList points;
+  add_point(points, 0.5, 0.5, 10.0, 0.0f);
+  GridProjectionParams g;
+  g.resolution_horizontal_deg = 1e-9;
+  for (const std::string& message : {error_of([&] { g.validate(); }), error_of([&] { project_to_grid(points, g); })}) {
+    EXPECT_NE(message.find("grid projection: resolution_horizontal_deg 1e-09 over fov_horizontal_deg 120 gives "
+                           "1.2e+11 columns"),
+              std::string::npos)
+        << message;
+    EXPECT_EQ(message.find("-2147483648"), std::string::npos) << message;
+  }
+  g = GridProjectionParams{};
+  g.resolution_vertical_deg = 1e-9;
+  const std::string rows = error_of([&] { project_to_grid(points, g); });
+  EXPECT_NE(rows.find("resolution_vertical_deg 1e-09 over fov_vertical_deg 30 gives 3e+10 rows"), std::string::npos)
+      << rows;
+  // Each span fits an int, their product does not fit the pixel limit.
+  g = GridProjectionParams{};
+  g.fov_horizontal_deg = 360.0;
+  g.resolution_horizontal_deg = 0.001;
+  g.resolution_vertical_deg = 0.001;
+  const std::string both = error_of([&] { project_to_grid(points, g); });
+  EXPECT_NE(both.find("grid projection: 30000 x 360000 pixels (1.08e+10) is more than the 67108864 a grid may have"),
+            std::string::npos)
+      << both;
+}
+
 // The documented path for unorganized input: a single-head scan flattened to a point list and
 // projected onto a grid of the head's own resolution gives back the same image, and the motion
 // pipeline finds the same ego velocity on it.

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <map>
 
+#include "fmcw/core/check.hpp"
 #include "fmcw/core/motion_pipeline.hpp"
 #include "fmcw/core/synthetic_scan.hpp"
 #include "scenes.hpp"
@@ -243,6 +244,25 @@ TEST(MotionPipeline, NaNVelocityInAValidPixelIsRejectedWithItsPixel) {
     FAIL() << "expected std::invalid_argument";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("row 100, col 37"), std::string::npos) << e.what();
+  }
+}
+
+// A stamp that is not a finite time would make every frame interval NaN, and the tracker
+// start over quietly at each frame: every method refuses the scan, naming the stamp.
+TEST(MotionPipeline, StampThatIsNotFiniteIsRejected) {
+  Frame frame = render_synthetic_scan(fmcw::test::static_courtyard());
+  for (const double stamp : {std::nan(""), HUGE_VAL, -HUGE_VAL}) {
+    frame.scan.stamp_s = stamp;
+    for (const std::string& method : MotionPipelineParams::preset_names()) {
+      try {
+        MotionPipeline(MotionPipelineParams::preset(method)).process(frame.scan);
+        ADD_FAILURE() << method << ": expected std::invalid_argument for stamp " << stamp;
+      } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find(concat("scan: stamp_s is ", stamp, ", expected a finite time [s]")),
+                  std::string::npos)
+            << method << ": " << e.what();
+      }
+    }
   }
 }
 

@@ -13,6 +13,7 @@
 
 #include "fmcw/core/motion_pipeline.hpp"
 #include "support/cli.hpp"
+#include "support/dataset_files.hpp"
 #include "support/report_files.hpp"
 #include "support/temp_dir.hpp"
 
@@ -129,6 +130,29 @@ TEST_F(EvalCli, TruthTablesThatDoNotMatchTheFrames) {
   text.erase(text.rfind('\n', text.size() - 2) + 1);  // drop the last frame's row
   std::ofstream(ego, std::ios::binary) << text;
   expect_rejected(ds, "ego.csv");
+}
+
+// A frame of another rig whose stamp matches (both datasets run at 10 Hz from 0 s) would be
+// evaluated against the wrong pixels; the shape and the heads of every frame must match the
+// first frame's.
+TEST_F(EvalCli, FrameOfAnotherRigIsNamedWithBothShapes) {
+  const std::string ds = dataset(3);
+  std::ofstream(path("small.yaml")) << fmcw::test::small_scenario_yaml(3);
+  ASSERT_EQ(run("simulate " + path("small.yaml") + " -o " + path("small")).code, 0);
+  const fs::path frame = fs::path(ds) / "frames" / "000001.pcd";
+  const std::string original = slurp(frame);
+  fs::copy_file(fs::path(path("small")) / "frames" / "000001.pcd", frame, fs::copy_options::overwrite_existing);
+  expect_rejected(ds, frame.string() + ": 40 x 120 pixels (rows x cols) with head 'front' [0, 120) differs from " +
+                          (fs::path(ds) / "frames" / "000000.pcd").string() +
+                          ", the first frame: 150 x 600 pixels (rows x cols) with heads 'left' [0, 200), "
+                          "'front' [200, 400), 'right' [400, 600); every frame must come from one rig");
+  // The same shape with other heads: the first head no longer stitched to the next.
+  std::string other = original;
+  const std::size_t at = other.find("# fmcw_head left 0 200 1 ");
+  ASSERT_NE(at, std::string::npos) << other.substr(0, 400);
+  other[at + std::string("# fmcw_head left 0 200 ").size()] = '0';
+  std::ofstream(frame, std::ios::binary) << other;
+  expect_rejected(ds, frame.string() + ": head 'left' [0, 200) is not stitched to the next where the first frame's is");
 }
 
 TEST_F(EvalCli, ExtraFrameFileIsNamed) {

@@ -129,7 +129,7 @@ TEST_F(AevaTest, BadFilesGetOneClearError) {
   expect_error([&] { read_aeva(cut); }, {"cut.bin", "neither 25-byte", "nor 29-byte", "truncated"});
   expect_error([&] { read_aeva(write("empty.bin", "")); }, {"empty.bin", "empty Aeva file"});
   expect_error([&] { read_aeva(path("missing.bin")); }, {"missing.bin", "cannot open"});
-  expect_error([&] { read_aeva(dir_.string()); }, {"not a readable file"});
+  expect_error([&] { read_aeva(dir_.string()); }, {"is a directory"});
 
   AevaRecords nan = r;
   nan.z_m[3] = std::nanf("");

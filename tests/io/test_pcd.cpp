@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "fmcw/core/synthetic_scan.hpp"
+#include "fmcw/io/frame_input.hpp"
 #include "fmcw/io/pcd.hpp"
 #include "support/temp_dir.hpp"
 
@@ -200,6 +201,51 @@ TEST_F(PcdTest, BadHeadCommentIsRejected) {
   write_text("k.pcd", "# fmcw_head a 0 1 0 0 0 0 1 0 0 0\n" + header("x y z v", "4 4 4 4", "F F F F", 2, 2, 4) +
                           std::string(64, '\0'));
   expect_error("k.pcd", {"heads cover 1 columns but the scan has 2"});
+}
+
+// A stamp that is not a finite number would reset tracking quietly (dt is NaN); both readers
+// of a PCD refuse it, naming the file and the comment.
+TEST_F(PcdTest, StampThatIsNotAFiniteNumberIsRejected) {
+  InputOptions points;
+  points.format = InputFormat::kPoints;
+  for (const std::string stamp : {"nan", "yesterday", "inf", "1e999", "12.5s"}) {
+    write_text("s.pcd", "# fmcw_stamp " + stamp + "\n" + header("x y z v", "4 4 4 4", "F F F F", 2, 2, 4, "ascii") +
+                            "1 0 0 0\n1 1 0 0\n1 0 1 0\n1 1 1 0\n");
+    const std::vector<std::string> message = {"s.pcd: comment '# fmcw_stamp " + stamp + "'",
+                                              "the stamp must be a finite number of seconds"};
+    expect_error("s.pcd", message);
+    try {
+      read_input_frame(path("s.pcd"), points);
+      ADD_FAILURE() << "points: expected an error for stamp " << stamp;
+    } catch (const std::invalid_argument& e) {
+      for (const auto& f : message) EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
+    }
+  }
+  // A good stamp is read; the points reader takes the file too.
+  write_text("g.pcd", "# fmcw_stamp 12.5\n" + header("x y z v", "4 4 4 4", "F F F F", 2, 2, 4, "ascii") +
+                          "1 0 0 0\n1 1 0 0\n1 0 1 0\n1 1 1 0\n");
+  EXPECT_EQ(read_frame(path("g.pcd")).scan.stamp_s, 12.5);
+  EXPECT_NO_THROW(read_input_frame(path("g.pcd"), points));
+}
+
+// A field the frame needs with COUNT other than 1 is named as such, not as missing.
+TEST_F(PcdTest, CountOtherThanOneOnAFrameFieldIsNamed) {
+  write_text("c.pcd", "VERSION 0.7\nFIELDS x y z v\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1000000\nWIDTH 2\nHEIGHT 2\n"
+                      "POINTS 4\nDATA binary\n" + std::string(4 * (12 + 4000000), '\0'));
+  expect_error("c.pcd", {"c.pcd: field 'v' has COUNT 1000000; a frame's fields must have COUNT 1"});
+  InputOptions points;
+  points.format = InputFormat::kPoints;
+  try {
+    read_input_frame(path("c.pcd"), points);
+    ADD_FAILURE() << "points: expected an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("c.pcd: field 'v' has COUNT 1000000; points need COUNT 1"), std::string::npos)
+        << e.what();
+  }
+  // An optional field the frame would read (intensity) is not dropped quietly either.
+  write_text("i.pcd", "VERSION 0.7\nFIELDS x y z v intensity\nSIZE 4 4 4 4 4\nTYPE F F F F F\nCOUNT 1 1 1 1 3\n"
+                      "WIDTH 2\nHEIGHT 2\nPOINTS 4\nDATA binary\n" + std::string(4 * 28, '\0'));
+  expect_error("i.pcd", {"i.pcd: field 'intensity' has COUNT 3; a frame's fields must have COUNT 1"});
 }
 
 }  // namespace

@@ -1,5 +1,8 @@
 """fmcw.Scan from numpy arrays of shape (rows, cols), heads, validation, project_points, PCD round trip."""
 
+import os
+import resource
+
 import numpy as np
 import pytest
 
@@ -92,3 +95,41 @@ def test_scan_round_trips_through_pcd(tmp_path):
         np.testing.assert_array_equal(getattr(back.scan, field), getattr(scan, field))
     with pytest.raises(ValueError, match="missing.pcd"):
         fmcw.read_frame(str(tmp_path / "missing.pcd"))
+
+
+def test_a_stamp_must_be_a_finite_time():
+    s = room_scan()
+    for bad in (float("nan"), float("inf"), -float("inf")):
+        with pytest.raises(ValueError, match="stamp_s is .*, expected a finite time"):
+            fmcw.Scan(s["x"], s["y"], s["z"], s["v"], stamp=bad)
+    scan = fmcw.Scan(s["x"], s["y"], s["z"], s["v"], stamp=3.5)
+    with pytest.raises(ValueError, match="stamp_s is nan, expected a finite time"):
+        scan.stamp = float("nan")
+    assert scan.stamp == 3.5
+
+
+def test_project_points_refuses_a_huge_grid_without_overflow():
+    x, y, z, v = (np.ones(3, dtype=np.float32) for _ in range(4))
+    with pytest.raises(ValueError) as error:
+        fmcw.project_points(x, y, z, v, res_h=1e-9)
+    assert "resolution_horizontal_deg 1e-09 over fov_horizontal_deg 120 gives 1.2e+11 columns" in str(error.value)
+    with pytest.raises(ValueError) as error:
+        fmcw.project_points(x, y, z, v, res_h=1e-9, res_v=1e-9)
+    assert "-2147483648" not in str(error.value)
+
+
+def test_read_frame_refuses_what_is_not_a_regular_file(tmp_path):
+    with pytest.raises(ValueError, match="/dev/zero: is not a regular file"):
+        fmcw.read_frame("/dev/zero")
+    with pytest.raises(ValueError, match="is a directory"):
+        fmcw.read_frame(str(tmp_path))
+    with pytest.raises(ValueError, match="/dev/zero: is not a regular file"):
+        fmcw.read_aeva("/dev/zero")
+    # A 2 GiB file without a newline: refused from its first line, not read whole.
+    big = tmp_path / "big.pcd"
+    big.write_bytes(b"VERSION")
+    os.truncate(big, 1 << 31)
+    with pytest.raises(ValueError, match="big.pcd:1: header line too long"):
+        fmcw.read_frame(str(big))
+    big.unlink()
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss < 200 * 1024

@@ -107,9 +107,17 @@ TEST_F(Cli, AFrameThatFailsLeavesNoOutputBehind) {
   // and the first frame's labelled cloud, written before, is gone with the folders made for it.
   fs::create_directories(dir_ / "ds" / "frames");
   ASSERT_EQ(run("synth -o " + p("ds/frames/000000.pcd") + " --objects 3 --seed 1").code, 0);
-  std::ofstream(p("ds/frames/000001.pcd"))
-      << "VERSION 0.7\nFIELDS x y z v\nSIZE 4 4 4 4\nTYPE F F F F\nWIDTH 2\nHEIGHT 2\nPOINTS 4\nDATA ascii\n"
-      << "nan nan nan nan\nnan nan nan nan\nnan nan nan nan\nnan nan nan nan\n";
+  {
+    // The first frame's rig (its head comments, 600 x 150) without a return.
+    std::ofstream second(p("ds/frames/000001.pcd"));
+    std::istringstream first(slurp(dir_ / "ds" / "frames" / "000000.pcd"));
+    for (std::string line; std::getline(first, line) && line.rfind("VERSION", 0) != 0;) {
+      if (line.rfind("# fmcw_", 0) == 0) second << line << "\n";
+    }
+    second << "VERSION 0.7\nFIELDS x y z v\nSIZE 4 4 4 4\nTYPE F F F F\nWIDTH 600\nHEIGHT 150\nPOINTS 90000\n"
+           << "DATA ascii\n";
+    for (int i = 0; i < 90000; ++i) second << "nan nan nan nan\n";
+  }
   CliResult r = run("process " + p("ds") + " -o " + p("out"));
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.output.find("000001.pcd: scan has no valid pixels"), std::string::npos) << r.output;

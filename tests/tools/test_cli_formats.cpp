@@ -2,6 +2,8 @@
 // PLY / SemanticKITTI / PCD out, with one clear error for bad input.
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -27,12 +29,13 @@ constexpr double kDeg = M_PI / 180.0;
 const Eigen::Vector3d kEgo(7.0, -0.6, 0.0);
 
 // One 120 x 30 deg head at 0.2 deg, 1.8 m above the ground, driving through a walled street
-// with one car crossing: what an Aeva sensor would see, with the scan lines as rows.
-fmcw::core::Frame street() {
+// with one car crossing: what an Aeva sensor would see, with the scan lines as rows. Another
+// field of view gives a frame of another rig.
+fmcw::core::Frame street(double fov_horizontal_deg = 120.0, double fov_vertical_deg = 30.0) {
   fmcw::core::SyntheticSceneParams p;
   fmcw::core::HeadModel head;
-  head.fov_horizontal_rad = 120.0 * kDeg;
-  head.fov_vertical_rad = 30.0 * kDeg;
+  head.fov_horizontal_rad = fov_horizontal_deg * kDeg;
+  head.fov_vertical_rad = fov_vertical_deg * kDeg;
   p.rig.heads = {head};
   p.ground_z_m = -1.8;
   fmcw::core::SyntheticBox wall;
@@ -149,6 +152,60 @@ TEST_F(CliFormats, ExportWritesEachFormatForEveryFrame) {
                          [](float p, float q) { return (std::isnan(p) && std::isnan(q)) || p == q; }));
 }
 
+// process compares every frame with the first: a frame of another rig (shape or heads) stops
+// the run with one error naming both, and nothing of the run is left behind.
+TEST_F(CliFormats, ProcessRefusesAFrameOfAnotherRig) {
+  const fmcw::core::Frame first = street();
+  fmcw::core::Frame moved = first;
+  moved.scan.heads[0].T_rig_head.translation().x() = 1.5;
+  struct Case {
+    fmcw::core::Frame second;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {street(8.0, 4.0),
+       "b.pcd: 20 x 40 pixels (rows x cols) with head 'head' [0, 40) differs from " + path("in/a.pcd") +
+           ", the first frame: 150 x 600 pixels (rows x cols) with head 'head' [0, 600); every frame must come from "
+           "one rig"},
+      {moved, "b.pcd: head 'head' [0, 600) is mounted at (1.5, 0, 0), rotation quaternion (1, 0, 0, 0) where the first "
+              "frame's is at (0, 0, 0), rotation quaternion (1, 0, 0, 0)"},
+  };
+  for (const Case& c : cases) {
+    fs::remove_all(dir_ / "in");
+    fs::create_directories(dir_ / "in");
+    fmcw::io::write_frame(path("in/a.pcd"), first);
+    fmcw::io::write_frame(path("in/b.pcd"), c.second);
+    const CliResult r = run_cli("process " + path("in") + " -o " + path("out"));
+    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_NE(r.output.find("fmcw: error: " + path("in/") + c.message), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "out")) << "the run leaves nothing behind";
+  }
+}
+
+// A 2 GiB file is refused from its size or its first line without being read: the CLI's peak
+// memory stays far below the file's size.
+TEST_F(CliFormats, HugeInputIsRefusedWithoutBeingRead) {
+  const off_t two_gib = off_t{1} << 31;
+  write("big.bin", "");
+  ASSERT_EQ(::truncate(path("big.bin").c_str(), two_gib), 0);
+  write("big.pcd", "VERSION");
+  ASSERT_EQ(::truncate(path("big.pcd").c_str(), two_gib), 0);
+  CliResult r = run_cli("process --format aeva " + path("big.bin") + " -o " + path("o1"));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("big.bin: size 2147483648 bytes is not a whole number of Aeva records"), std::string::npos)
+      << r.output;
+  r = run_cli("process " + path("big.pcd") + " -o " + path("o2"));
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("big.pcd:1: header line too long"), std::string::npos) << r.output;
+  fs::remove(path("big.bin"));
+  fs::remove(path("big.pcd"));
+  EXPECT_FALSE(fs::exists(dir_ / "o1"));
+  EXPECT_FALSE(fs::exists(dir_ / "o2"));
+  rusage children{};
+  ::getrusage(RUSAGE_CHILDREN, &children);
+  EXPECT_LT(children.ru_maxrss, 200 * 1024) << "peak resident memory of the CLI [KiB]";
+}
+
 TEST_F(CliFormats, BadInputGetsOneErrorLine) {
   fmcw::io::write_aeva(path("scan.bin"), to_aeva(street().scan));
   {
@@ -171,6 +228,8 @@ TEST_F(CliFormats, BadInputGetsOneErrorLine) {
       {"export " + path("nothing") + " -o " + path("o5") + " --to ply", "does not exist"},
       // (the output outside the input folder: inside it would be refused before bad.bin is read)
       {"process --format aeva " + dir_.string() + " -o " + dir_.string() + "_o6", "bad.bin"},
+      {"process --format aeva --res-h 1e-9 " + path("scan.bin") + " -o " + path("o7"),
+       "grid projection: resolution_horizontal_deg 1e-09 over fov_horizontal_deg 120 gives 1.2e+11 columns"},
   };
   for (const Case& c : cases) {
     const CliResult r = run_cli(c.args);
@@ -179,6 +238,7 @@ TEST_F(CliFormats, BadInputGetsOneErrorLine) {
     EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
   }
   EXPECT_FALSE(fs::exists(dir_ / "o4" / "velodyne" / "scan.bin"));
+  EXPECT_FALSE(fs::exists(dir_ / "o7"));
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include "commands.hpp"
 #include "fmcw/core/motion_pipeline.hpp"
 #include "fmcw/io/atomic_file.hpp"
+#include "fmcw/io/frame_layout.hpp"
 #include "fmcw/io/output_folder.hpp"
 #include "fmcw/io/results_writer.hpp"
 #include "input_flags.hpp"
@@ -31,9 +32,13 @@ struct ProcessOptions {
 void process_frames(const ProcessOptions& opt, const io::InputOptions& input, const std::vector<std::string>& files,
                     core::MotionPipeline& pipeline, const fs::path& label_dir, std::vector<fs::path>& written) {
   io::ResultsWriter writer(opt.output);
+  io::FrameLayoutCheck layout;
   for (std::size_t k = 0; k < files.size(); ++k) {
     const io::InputFrame in = io::read_input_frame(files[k], input);
     const core::Frame& frame = in.frame;
+    // Organized frames bring their own shape and heads; a projected frame's come from the grid
+    // options (and, for Aeva scans without --aeva-lines, rows from each scan's line indices).
+    if (!in.projected) layout.check(frame.scan, files[k]);
     if (in.projected) std::cerr << files[k] << ": " << projection_summary(in) << "\n";
     const core::MotionEstimate est = pipeline.process(frame.scan, k);
     if (!est.ok()) throw std::runtime_error(files[k] + ": " + est.message);

@@ -28,7 +28,7 @@ struct HeadInfo {
 struct Scan {
   int rows = 0;
   int cols = 0;
-  double stamp_s = 0.0;
+  double stamp_s = 0.0;  ///< [s] the scan's time; finite
   std::vector<float> x_m, y_m, z_m;       ///< hit position, rig frame [m]; NaN where invalid
   std::vector<float> range_m;             ///< distance from the beam origin [m]
   std::vector<float> radial_velocity_mps; ///< Doppler velocity [m/s]
@@ -60,7 +60,8 @@ struct Scan {
   /// are image neighbours only within one group.
   std::vector<int> column_group_of() const;
 
-  /// Checks array sizes and head spans. Throws std::invalid_argument naming the field.
+  /// Checks array sizes, head spans and that the stamp is finite. Throws std::invalid_argument
+  /// naming the field.
   void validate_layout() const;
   /// validate_layout(), and that valid pixels hold finite values and a positive range.
   /// Throws std::invalid_argument naming the field or the (row, col) pixel at fault.

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fmcw/core/ground_truth.hpp"
+#include "fmcw/io/frame_layout.hpp"
 #include "fmcw/sim/lidar_simulator.hpp"
 #include "fmcw/sim/scenario.hpp"
 
@@ -37,8 +38,8 @@ class FrameSource {
 /// A dataset folder: DIR/dataset.yaml (complete: true), DIR/frames/NNNNNN.pcd for frames
 /// 0..n-1, DIR/ego.csv and DIR/objects.csv with n frames. The constructor checks all of that
 /// and throws std::invalid_argument naming the file at fault; frame(k) reads one PCD and
-/// throws naming it when it is truncated or lacks ground truth. max_frames > 0 keeps the first
-/// max_frames frames.
+/// throws naming it when it is truncated, lacks ground truth, or has another shape or other
+/// heads than frame 0. max_frames > 0 keeps the first max_frames frames.
 class DatasetSource : public FrameSource {
  public:
   explicit DatasetSource(const std::string& dir, int max_frames = 0);
@@ -51,6 +52,7 @@ class DatasetSource : public FrameSource {
   SourceInfo info_;
   std::vector<std::string> files_;
   std::vector<core::FrameTruth> truth_;
+  io::FrameLayoutCheck layout_;  ///< frame 0's shape and heads, which every frame must have
 };
 
 /// A scenario simulated frame by frame in memory (for studies: nothing is written to disk).

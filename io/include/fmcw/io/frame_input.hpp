@@ -14,6 +14,7 @@ namespace fmcw::io {
 enum class InputFormat {
   kPcd,     ///< organized PCD as `fmcw simulate` writes it (HEIGHT = rows)
   kPoints,  ///< any PCD with x y z v (intensity and t optional), unorganized or not: projected
+            ///< (stamp 0; a "# fmcw_stamp" comment must still be a finite number)
   kAeva,    ///< Aeva Aeries II .bin scans: rows by line index, columns by azimuth
 };
 
@@ -42,7 +43,7 @@ struct InputFrame {
 InputFrame read_input_frame(const std::string& path, const InputOptions& options);
 
 /// A PCD's points with finite x, y, z as a point list: x y z v required, intensity and t taken
-/// when present, other fields ignored. Errors name the source.
+/// when present (each with COUNT 1), other fields ignored. Errors name the source.
 core::PointList points_from_pcd(const PcdCloud& cloud, const std::string& source);
 
 }  // namespace fmcw::io

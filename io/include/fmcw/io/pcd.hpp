@@ -8,6 +8,7 @@
 // ("# fmcw_head ...", "# fmcw_stamp ..."), which other PCD readers skip.
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fmcw/core/ground_truth.hpp"
@@ -28,6 +29,9 @@ struct PcdCloud {
   int height = 0;
   std::vector<PcdField> fields;
   std::vector<std::string> comments;
+  /// Fields with COUNT > 1 (name, COUNT): not read, so not in `fields`; a reader that needs one
+  /// names it (check_single_count) rather than calling it missing.
+  std::vector<std::pair<std::string, int>> multi_count_fields;
 
   std::size_t points() const { return static_cast<std::size_t>(width) * static_cast<std::size_t>(height); }
   const PcdField* find(const std::string& name) const;
@@ -42,6 +46,15 @@ void write_pcd(const std::string& path, const PcdCloud& cloud);
 
 /// Field names a frame may carry; anything else is rejected by frame_from_pcd.
 const std::vector<std::string>& known_frame_fields();
+
+/// Throws std::invalid_argument "<source>: field 'v' has COUNT 3; <reader> COUNT 1" when one of
+/// `names` has COUNT > 1 in the file (reader: who needs it, e.g. "a frame's fields must have").
+void check_single_count(const PcdCloud& cloud, const std::vector<std::string>& names, const std::string& source,
+                        const std::string& reader);
+
+/// The stamp of a "# fmcw_stamp SECONDS" comment [s], 0 without one. std::invalid_argument naming
+/// the source and the comment when it is not one finite number.
+double stamp_from_comments(const PcdCloud& cloud, const std::string& source);
 
 /// Builds a Frame. Requires x y z v; range defaults to the distance from the beam origin,
 /// intensity to 0. A point with finite x, y, z is valid and must have finite values in every
