@@ -604,7 +604,7 @@ LoadedScenario load_scenario_unchecked(const std::string& path, MemoryBudget& bu
         if (k == 0) {
           // Every copy is a mesh of its own in the scene: counted before the copies are made.
           const double triangles = static_cast<double>(loaded.static_meshes.back()->triangle_count());
-          budget.add(count * triangles * kBytesPerTriangle, item.where(),
+          budget.add(count * (triangles * kBytesPerTriangle + kBytesPerObject), item.where(),
                      std::to_string(count) + " cop" + (count == 1 ? "y" : "ies") + " of '" + base.mesh_path + "' (" +
                          std::to_string(static_cast<long long>(triangles)) + " triangles each)");
         }
@@ -625,7 +625,8 @@ LoadedScenario load_scenario_unchecked(const std::string& path, MemoryBudget& bu
         item.fail("actor id " + std::to_string(a.id) + " is already used by " + ids[a.id]);
       }
       loaded.actor_meshes.push_back(mesh(a, item));
-      budget.add(static_cast<double>(loaded.actor_meshes.back()->triangle_count()) * kBytesPerTriangle, item.where(),
+      budget.add(static_cast<double>(loaded.actor_meshes.back()->triangle_count()) * kBytesPerTriangle + kBytesPerObject,
+                 item.where(),
                  "actor mesh '" + a.mesh_path + "'");
     }
   } else {

@@ -18,7 +18,9 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string path = fmcw::fuzz::write_input("scenario.yaml", data, size);
   try {
-    (void)fmcw::sim::load_scenario(path);
+    // A budget well under libFuzzer's -rss_limit_mb (2 GB): an input that asks for more is
+    // refused by the estimate, the path a user's file takes too.
+    (void)fmcw::sim::load_scenario(path, std::uint64_t{512} << 20);
   } catch (const std::invalid_argument&) {
   }
   return 0;
