@@ -16,6 +16,22 @@ bool is_existing_file(const std::string& path) {
   return std::filesystem::is_regular_file(path, ec);
 }
 
+std::string shown(const std::string& text) {
+  constexpr std::size_t kLongest = 80;
+  std::string out;
+  for (std::size_t i = 0; i < text.size() && i < kLongest; ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c < 0x20 || c == 0x7f) {
+      static const char* hex = "0123456789abcdef";
+      out += std::string("\\x") + hex[c >> 4] + hex[c & 15];
+    } else {
+      out += text[i];
+    }
+  }
+  if (text.size() > kLongest) out += "... (" + std::to_string(text.size()) + " characters)";
+  return out;
+}
+
 std::string missing_file_reason(const std::string& path) {
   std::error_code ec;
   const auto st = std::filesystem::status(path, ec);
@@ -64,13 +80,13 @@ double YamlValue::as_double() const {
   const std::string text = node_.Scalar();
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || end == nullptr || *end != '\0' || !std::isfinite(v)) fail("expected a finite number, got '" + text + "'");
+  if (text.empty() || end == nullptr || *end != '\0' || !std::isfinite(v)) fail("expected a finite number, got '" + shown(text) + "'");
   return v;
 }
 
 int YamlValue::as_int() const {
   const double v = as_double();
-  if (v != std::floor(v) || std::abs(v) > std::numeric_limits<int>::max()) fail("expected an integer, got '" + node_.Scalar() + "'");
+  if (v != std::floor(v) || std::abs(v) > std::numeric_limits<int>::max()) fail("expected an integer, got '" + shown(node_.Scalar()) + "'");
   return static_cast<int>(v);
 }
 
@@ -84,7 +100,7 @@ std::uint64_t YamlValue::as_uint64() const {
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used != text.size() || text.empty() || text[0] == '-') fail("expected a non-negative integer, got '" + text + "'");
+  if (used != text.size() || text.empty() || text[0] == '-') fail("expected a non-negative integer, got '" + shown(text) + "'");
   return v;
 }
 
@@ -93,7 +109,7 @@ bool YamlValue::as_bool() const {
   const std::string t = node_.Scalar();
   if (t == "true") return true;
   if (t == "false") return false;
-  fail("expected true or false, got '" + t + "'");
+  fail("expected true or false, got '" + shown(t) + "'");
 }
 
 std::string YamlValue::as_string() const {
@@ -134,7 +150,7 @@ YamlMap::YamlMap(const YamlValue& value) : value_(value) {
     }
     const auto [it, added] = lines.emplace(kv.first.Scalar(), line);
     if (!added) {
-      throw std::invalid_argument(value_.file() + ":" + std::to_string(line) + ": key '" + kv.first.Scalar() +
+      throw std::invalid_argument(value_.file() + ":" + std::to_string(line) + ": key '" + shown(kv.first.Scalar()) +
                                   "' given twice in " + where + " (first at line " + std::to_string(it->second) +
                                   "); keep one");
     }
@@ -171,7 +187,7 @@ void YamlMap::finish() const {
     std::string list;
     for (const auto& a : used_) list += (list.empty() ? "" : ", ") + a;
     std::ostringstream msg;
-    msg << value_.file() << ":" << kv.first.Mark().line + 1 << ": unknown key '" << key << "' in "
+    msg << value_.file() << ":" << kv.first.Mark().line + 1 << ": unknown key '" << shown(key) << "' in "
         << (value_.path().empty() ? "the top level" : value_.path()) << " (accepted: " << list << ")";
     throw std::invalid_argument(msg.str());
   }

@@ -291,6 +291,10 @@ TEST_F(DataSafety, MessagesSayWhatIsTrue) {
                  "name: name must be 1 to 200 characters without control characters");
   expect_refused(scenario_with("long.yaml", "name: small", "name: " + std::string(5000, 'n')),
                  "(got 5000 characters)");
+  // What a user wrote is echoed escaped and shortened.
+  expect_refused(scenario_with("key.yaml", "seed: 5", "seed: 5\n\"\\e[2Jx\": 1"), "unknown key '\\x1b[2Jx' in the top level");
+  expect_refused(scenario_with("num.yaml", "rate_hz: 10", "rate_hz: " + std::string(5000, 'a')),
+                 "rate_hz: expected a finite number, got '" + std::string(80, 'a') + "... (5000 characters)'");
   expect_refused(write("deep.yaml", "name: deep\nrig: " + std::string(10000, '[') + std::string(10000, ']') + "\n"),
                  "deep.yaml:2:20006: malformed YAML: nested deeper than 499 levels");
 }

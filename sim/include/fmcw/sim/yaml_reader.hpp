@@ -13,6 +13,9 @@ namespace fmcw::sim {
 /// True for an existing regular file; false, never an exception, for a path the system rejects
 /// (too long, a component not a folder, no permission): a scenario may name anything.
 bool is_existing_file(const std::string& path);
+/// text as a message may show it: control characters as \xNN, at most 80 characters and then
+/// "... (N characters)".
+std::string shown(const std::string& text);
 /// Why path is no file to read: "is a directory", "is not a regular file" (a FIFO, a device),
 /// "is a broken or looping link" or "does not exist".
 std::string missing_file_reason(const std::string& path);
