@@ -11,7 +11,11 @@ namespace fmcw::sim {
 namespace {
 std::string mb(double bytes) {
   std::ostringstream out;
-  out << std::llround(bytes / (1024.0 * 1024.0)) << " MB";
+  if (bytes < 1024.0 * 1024.0) {
+    out << std::llround(bytes / 1024.0) << " KB";
+  } else {
+    out << std::llround(bytes / (1024.0 * 1024.0)) << " MB";
+  }
   return out.str();
 }
 }  // namespace

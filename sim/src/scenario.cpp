@@ -595,6 +595,13 @@ LoadedScenario load_scenario_unchecked(const std::string& path, MemoryBudget& bu
       }
       if (!s.classes.find(base.semantic_class)) item.fail("class: " + unknown_class(s, base.semantic_class));
       Eigen::Isometry3d offset = Eigen::Isometry3d::Identity();
+      // Room for every copy at once (growing one by one doubled into two arrays of copies at a
+      // time), and at least twice the room when it grows, as push_back would.
+      const std::size_t needed = s.statics.size() + static_cast<std::size_t>(count);
+      if (needed > s.statics.capacity()) {
+        s.statics.reserve(std::max(needed, 2 * s.statics.capacity()));
+        loaded.static_meshes.reserve(std::max(needed, 2 * s.statics.capacity()));
+      }
       for (int k = 0; k < count; ++k) {
         ObjectSpec copy = base;
         copy.trajectory.pose.translation() = base.trajectory.pose.translation() + offset.translation();
