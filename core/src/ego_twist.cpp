@@ -4,11 +4,11 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <array>
-#include <bitset>
 #include <cmath>
 
 #include "fmcw/core/check.hpp"
 #include "fmcw/core/random.hpp"
+#include "ego_twist_beams.hpp"
 
 namespace fmcw::core {
 
@@ -16,33 +16,27 @@ namespace {
 
 constexpr int kCellCols = 24;  // coverage grid over the image
 constexpr int kCellRows = 6;
-using Coverage = std::bitset<kCellCols * kCellRows>;
 
-// The valid points as rows of the twist problem: a = [e, (r x e)_z], target -v.
-struct TwistRows {
-  std::vector<Eigen::Vector4d> a;
-  std::vector<double> v;
-  std::vector<std::uint16_t> cell;
-};
-
-TwistRows gather_rows(const Scan& scan) {
-  TwistRows rows;
-  const std::vector<Eigen::Vector3d> origin = column_origins(scan);
-  rows.a.reserve(scan.size());
+void gather_rows(const Scan& scan, const ScanBeams& beams, TwistRows& rows) {
+  rows.clear();
   for (int r = 0; r < scan.rows; ++r) {
+    const int cell_row = (r * kCellRows / scan.rows) * kCellCols;
     for (int c = 0; c < scan.cols; ++c) {
       const std::size_t i = scan.index(r, c);
       if (!scan.valid[i]) continue;
-      const Eigen::Vector3d& o = origin[static_cast<std::size_t>(c)];
-      const Eigen::Vector3d e = (scan.position(i) - o).normalized();
+      const Eigen::Vector3d& o = beams.origin[static_cast<std::size_t>(c)];
+      const Eigen::Vector3d& e = beams.e[i];
       // Yaw rate term: e . (omega_z z x o) = omega_z (o_x e_y - o_y e_x).
-      rows.a.emplace_back(e.x(), e.y(), e.z(), o.x() * e.y() - o.y() * e.x());
-      rows.v.push_back(scan.radial_velocity_mps[i]);
-      const int cell = (r * kCellRows / scan.rows) * kCellCols + c * kCellCols / scan.cols;
-      rows.cell.push_back(static_cast<std::uint16_t>(cell));
+      rows.push_back(e.x(), e.y(), e.z(), o.x() * e.y() - o.y() * e.x(), scan.radial_velocity_mps[i],
+                     static_cast<std::uint16_t>(cell_row + c * kCellCols / scan.cols));
     }
   }
-  return rows;
+}
+
+// The rows of the seeded subset MSAC scores hypotheses on, copied together.
+void subset_rows(const TwistRows& rows, const std::vector<std::uint32_t>& subset, TwistRows& out) {
+  out.clear();
+  for (const std::uint32_t k : subset) out.push_back(rows.ex[k], rows.ey[k], rows.ez[k], rows.ew[k], rows.v[k], rows.cell[k]);
 }
 
 struct Score {
@@ -58,25 +52,33 @@ struct Score {
   }
 };
 
-Score score(const TwistRows& rows, const std::vector<std::uint32_t>& subset, const std::vector<int>& column_points,
-            const Eigen::Vector4d& p, double threshold) {
+// Squared residuals of twist p, then the truncated cost and the inliers per cell.
+Score score(const TwistRows& sub, const std::vector<int>& column_points, const Eigen::Vector4d& p, double threshold,
+            std::vector<double>& r2) {
   Score s;
-  Coverage covered;
-  std::array<int, kCellCols * kCellRows> per_cell{};
   const double t2 = threshold * threshold;
-  for (const std::uint32_t k : subset) {
-    const double res = rows.v[k] + rows.a[k].dot(p);
-    const double r2 = res * res;
-    if (r2 < t2) {
-      ++s.inliers;
-      // A cell counts once it holds a few inliers: single stray points do not make coverage.
-      if (++per_cell[rows.cell[k]] == 3) covered.set(rows.cell[k]);
-      s.cost += r2;
-    } else {
-      s.cost += t2;
-    }
+  const std::size_t n = sub.size();
+  r2.resize(n);
+  const double p0 = p(0), p1 = p(1), p2 = p(2), p3 = p(3);
+  const double *ex = sub.ex.data(), *ey = sub.ey.data(), *ez = sub.ez.data(), *ew = sub.ew.data(), *v = sub.v.data();
+  double* out = r2.data();
+  double cost = 0.0;
+  double inliers = 0.0;  // counted in doubles: one vector type for the whole loop
+#pragma omp simd reduction(+ : cost, inliers)
+  for (std::size_t k = 0; k < n; ++k) {
+    const double res = v[k] + ex[k] * p0 + ey[k] * p1 + ez[k] * p2 + ew[k] * p3;
+    const double q = res * res;
+    out[k] = q;
+    inliers += q < t2 ? 1.0 : 0.0;
+    cost += q < t2 ? q : t2;
   }
-  s.coverage = static_cast<int>(covered.count());
+  s.inliers = static_cast<int>(inliers);
+  s.cost = cost;
+  std::array<int, kCellCols * kCellRows> per_cell{};
+  for (std::size_t k = 0; k < n; ++k) per_cell[sub.cell[k]] += out[k] < t2 ? 1 : 0;
+  // A cell counts once it holds a few inliers: single stray points do not make coverage.
+  s.coverage = 0;
+  for (const int count : per_cell) s.coverage += count >= 3 ? 1 : 0;
   // A column counts when its inliers are a real share of its points, not a thin band.
   s.columns = 0;
   for (int c = 0; c < kCellCols; ++c) {
@@ -92,6 +94,10 @@ Score score(const TwistRows& rows, const std::vector<std::uint32_t>& subset, con
 void EgoTwistParams::validate() const {
   FMCW_CHECK_ARG(noise_sigma_mps > 0.0 && inlier_threshold_mps > 0.0, "ego twist: noise_sigma_mps and inlier_threshold_mps must be > 0");
   FMCW_CHECK_ARG(ransac_iterations >= 1 && sample_points >= 8, "ego twist: ransac_iterations >= 1 and sample_points >= 8 required");
+  FMCW_CHECK_ARG(min_ransac_iterations >= 1 && min_ransac_iterations <= ransac_iterations,
+                 "ego twist: min_ransac_iterations must be in [1, ransac_iterations], got ", min_ransac_iterations);
+  FMCW_CHECK_ARG(ransac_confidence > 0.0 && ransac_confidence < 1.0, "ego twist: ransac_confidence must be in (0, 1), got ",
+                 ransac_confidence);
   FMCW_CHECK_ARG(huber_k_sigma > 0.0 && refine_iterations >= 1, "ego twist: huber_k_sigma > 0 and refine_iterations >= 1 required");
   FMCW_CHECK_ARG(max_yaw_rate_rps > 0.0, "ego twist: max_yaw_rate_rps must be > 0");
   FMCW_CHECK_ARG(lateral_velocity_sigma_mps >= 0.0, "ego twist: lateral_velocity_sigma_mps must be >= 0, got ",
@@ -101,172 +107,279 @@ void EgoTwistParams::validate() const {
                  "ego twist: standing_coverage_fraction must be in (0, 1]");
 }
 
+void TwistPriorParams::validate() const {
+  FMCW_CHECK_ARG(accel_mps2 > 0.0, "ego prior: accel_mps2 must be > 0, got ", accel_mps2);
+  FMCW_CHECK_ARG(velocity_margin_mps >= 0.0, "ego prior: velocity_margin_mps must be >= 0, got ", velocity_margin_mps);
+  FMCW_CHECK_ARG(yaw_accel_rps2 > 0.0, "ego prior: yaw_accel_rps2 must be > 0, got ", yaw_accel_rps2);
+  FMCW_CHECK_ARG(yaw_rate_margin_rps >= 0.0, "ego prior: yaw_rate_margin_rps must be >= 0, got ", yaw_rate_margin_rps);
+}
+
 EgoTwistEstimate estimate_ego_twist(const Scan& scan, const EgoTwistParams& params, std::uint64_t seed,
                                     const TwistPrior* prior) {
-  EgoTwistEstimate out;
-  const TwistRows rows = gather_rows(scan);
-  const auto n = static_cast<std::uint32_t>(rows.v.size());
-  if (n < 4) return out;
+  EgoTwistWorkspace ws;
+  return estimate_ego_twist(scan, ScanBeams(scan), params, seed, prior, ws);
+}
 
-  // The yaw rate is observable only when heads sit at different points.
-  bool distinct_mounts = false;
-  for (const auto& h : scan.heads) distinct_mounts |= (h.origin_m() - scan.heads.front().origin_m()).norm() > 0.01;
-  const bool with_yaw = params.estimate_yaw_rate && distinct_mounts;
-  const int dof = with_yaw ? 4 : 3;
+namespace {
 
-  // MSAC on a seeded subset of the points.
-  const std::vector<std::uint32_t> subset = subsample_indices(n, static_cast<std::uint32_t>(params.sample_points), seed);
-  std::vector<int> column_points(kCellCols, 0);
-  for (const std::uint32_t k : subset) ++column_points[rows.cell[k] % kCellCols];
-  Rng rng(mix_seed(seed, 1));
-  const auto admissible = [&](const Eigen::Vector4d& q) {
+// One pass of Huber-weighted least squares over the inliers of twist p:
+// the normal equations N = sum w a a^T, g = -sum w v a, with k = infinity plain least squares on
+// the inliers. The sums run in two lanes (their order is fixed, so results are reproducible).
+struct HuberSums {
+  Eigen::Matrix4d N = Eigen::Matrix4d::Zero();
+  Eigen::Vector4d g = Eigen::Vector4d::Zero();
+  double rss = 0.0;
+  double weight_sum = 0.0;
+  int inliers = 0;
+};
+
+HuberSums huber_pass(const TwistRows& rows, const Eigen::Vector4d& p, double threshold, double k) {
+  const std::size_t count = rows.size();
+  const double p0 = p(0), p1 = p(1), p2 = p(2), p3 = p(3);
+  const double *ex = rows.ex.data(), *ey = rows.ey.data(), *ez = rows.ez.data(), *ew = rows.ew.data(), *v = rows.v.data();
+  double n00 = 0, n01 = 0, n02 = 0, n03 = 0, n11 = 0, n12 = 0, n13 = 0, n22 = 0, n23 = 0, n33 = 0;
+  double g0 = 0, g1 = 0, g2 = 0, g3 = 0, rss = 0, weight_sum = 0;
+  double inliers = 0;  // counted in doubles: one vector type for the whole loop
+#pragma omp simd reduction(+ : n00, n01, n02, n03, n11, n12, n13, n22, n23, n33, g0, g1, g2, g3, rss, weight_sum, inliers)
+  for (std::size_t i = 0; i < count; ++i) {
+    const double a0 = ex[i], a1 = ey[i], a2 = ez[i], a3 = ew[i];
+    const double res = v[i] + a0 * p0 + a1 * p1 + a2 * p2 + a3 * p3;
+    const double ares = std::abs(res);
+    const double huber = std::min(1.0, k / ares);  // 1 within k (also for k = infinity)
+    const double w = ares < threshold ? huber : 0.0;
+    const double t0 = w * a0, t1 = w * a1, t2 = w * a2, t3 = w * a3;
+    n00 += t0 * a0;
+    n01 += t0 * a1;
+    n02 += t0 * a2;
+    n03 += t0 * a3;
+    n11 += t1 * a1;
+    n12 += t1 * a2;
+    n13 += t1 * a3;
+    n22 += t2 * a2;
+    n23 += t2 * a3;
+    n33 += t3 * a3;
+    const double wv = w * v[i];
+    g0 -= wv * a0;
+    g1 -= wv * a1;
+    g2 -= wv * a2;
+    g3 -= wv * a3;
+    rss += w * res * res;
+    weight_sum += w;
+    inliers += ares < threshold ? 1.0 : 0.0;
+  }
+  HuberSums out;
+  out.N << n00, n01, n02, n03, n01, n11, n12, n13, n02, n12, n22, n23, n03, n13, n23, n33;
+  out.g << g0, g1, g2, g3;
+  out.rss = rss;
+  out.weight_sum = weight_sum;
+  out.inliers = static_cast<int>(inliers);
+  return out;
+}
+
+// What the estimate needs besides the rows: the twist's unknowns and the prior's window.
+struct TwistProblem {
+  const EgoTwistParams& params;
+  const TwistPrior* prior;
+  bool with_yaw = false;
+  int dof = 3;
+
+  bool admissible(const Eigen::Vector4d& q) const {
     if (prior == nullptr) return true;
     return (q.head<3>() - prior->velocity_mps).norm() <= prior->max_velocity_change_mps &&
            std::abs(q(3) - prior->yaw_rate_rps) <= prior->max_yaw_rate_change_rps;
-  };
-  Eigen::Vector4d best_p = Eigen::Vector4d::Zero();
-  Score best;
-  if (prior != nullptr) {  // the previous twist is the first hypothesis
-    best_p << prior->velocity_mps, with_yaw ? prior->yaw_rate_rps : 0.0;
-    best = score(rows, subset, column_points, best_p, params.inlier_threshold_mps);
   }
-  for (int it = 0; it < params.ransac_iterations; ++it) {
+  // Without the yaw rate its row and column are the identity's.
+  void fix_yaw(Eigen::Matrix4d& N, Eigen::Vector4d& g) const {
+    if (with_yaw) return;
+    N.col(3).setZero();
+    N.row(3).setZero();
+    N(3, 3) = 1.0;
+    g(3) = 0.0;
+  }
+};
+
+struct MsacResult {
+  Eigen::Vector4d p = Eigen::Vector4d::Zero();
+  Score score;
+};
+
+// Local optimisation: a minimal set amplifies noise, so refit on the hypothesis' inliers within
+// the subset and keep the refit while it scores better.
+void local_refit(const TwistRows& sub, const std::vector<int>& column_points, const TwistProblem& pb, MsacResult& best,
+                 std::vector<double>& r2) {
+  const double thr = pb.params.inlier_threshold_mps;
+  for (int lo = 0; lo < 3; ++lo) {
+    HuberSums sums = huber_pass(sub, best.p, thr, std::numeric_limits<double>::infinity());
+    pb.fix_yaw(sums.N, sums.g);
+    const Eigen::Vector4d refit = sums.N.ldlt().solve(sums.g);
+    if (!refit.allFinite() || std::abs(refit(3)) > pb.params.max_yaw_rate_rps || !pb.admissible(refit)) break;
+    const Score s = score(sub, column_points, refit, thr, r2);
+    if (!s.better_than(best.score)) break;
+    best.score = s;
+    best.p = refit;
+  }
+}
+
+// Early termination: once the best hypothesis holds inliers in every azimuth column of the grid
+// (the static world: no other hypothesis can beat it on columns), as many minimal sets as give
+// ransac_confidence of having drawn one of its inliers only, at least min_ransac_iterations.
+// Otherwise (a world that shows in part of the view) all ransac_iterations.
+int iterations_needed(const Score& best, std::size_t points, const TwistProblem& pb) {
+  const EgoTwistParams& params = pb.params;
+  if (best.columns < kCellCols || points == 0) return params.ransac_iterations;
+  const double clean = std::pow(static_cast<double>(best.inliers) / static_cast<double>(points), pb.dof);
+  if (clean >= 1.0) return params.min_ransac_iterations;
+  const double needed = std::ceil(std::log(1.0 - params.ransac_confidence) / std::log1p(-clean));
+  return static_cast<int>(std::clamp(needed, static_cast<double>(params.min_ransac_iterations),
+                                     static_cast<double>(params.ransac_iterations)));
+}
+
+// MSAC over minimal sets drawn from the subset; the prior's twist, if any, is the first hypothesis.
+MsacResult msac(const TwistRows& sub, const std::vector<int>& column_points, const TwistProblem& pb, std::uint64_t seed,
+                std::vector<double>& r2) {
+  const EgoTwistParams& params = pb.params;
+  Rng rng(mix_seed(seed, 1));
+  MsacResult best;
+  if (pb.prior != nullptr) {
+    best.p << pb.prior->velocity_mps, pb.with_yaw ? pb.prior->yaw_rate_rps : 0.0;
+    best.score = score(sub, column_points, best.p, params.inlier_threshold_mps, r2);
+  }
+  int limit = pb.prior != nullptr ? iterations_needed(best.score, sub.v.size(), pb) : params.ransac_iterations;
+  for (int it = 0; it < limit; ++it) {
     Eigen::Matrix4d A = Eigen::Matrix4d::Identity();
     Eigen::Vector4d b = Eigen::Vector4d::Zero();
     std::array<std::uint32_t, 4> pick{};
-    for (int j = 0; j < dof; ++j) {
+    for (int j = 0; j < pb.dof; ++j) {
       bool fresh = false;
       while (!fresh) {
-        pick[static_cast<std::size_t>(j)] = subset[rng.uniform_below(subset.size())];
+        pick[static_cast<std::size_t>(j)] = static_cast<std::uint32_t>(rng.uniform_below(sub.size()));
         fresh = true;
         for (int q = 0; q < j; ++q) fresh &= pick[static_cast<std::size_t>(q)] != pick[static_cast<std::size_t>(j)];
       }
-      A.row(j) = rows.a[pick[static_cast<std::size_t>(j)]].transpose();
-      b(j) = -rows.v[pick[static_cast<std::size_t>(j)]];
+      A.row(j) = sub.a(pick[static_cast<std::size_t>(j)]).transpose();
+      b(j) = -sub.v[pick[static_cast<std::size_t>(j)]];
     }
-    if (!with_yaw) {
+    if (!pb.with_yaw) {
       A.col(3).setZero();
       A(3, 3) = 1.0;
     }
     const Eigen::FullPivLU<Eigen::Matrix4d> lu(A);
     if (lu.rank() < 4) continue;
     const Eigen::Vector4d p = lu.solve(b);
-    if (!p.allFinite() || p.head<3>().norm() > 100.0 || std::abs(p(3)) > params.max_yaw_rate_rps || !admissible(p)) continue;
-    Score s = score(rows, subset, column_points, p, params.inlier_threshold_mps);
-    if (!s.better_than(best)) continue;
-    best = s;
-    best_p = p;
-    // Local optimisation: a minimal set amplifies noise, so refit on the hypothesis' inliers
-    // within the subset and keep the refit while it scores better.
-    for (int lo = 0; lo < 3; ++lo) {
-      Eigen::Matrix4d N = Eigen::Matrix4d::Zero();
-      Eigen::Vector4d g = Eigen::Vector4d::Zero();
-      for (const std::uint32_t q : subset) {
-        if (std::abs(rows.v[q] + rows.a[q].dot(best_p)) >= params.inlier_threshold_mps) continue;
-        N.noalias() += rows.a[q] * rows.a[q].transpose();
-        g.noalias() -= rows.v[q] * rows.a[q];
-      }
-      if (!with_yaw) {
-        N.col(3).setZero();
-        N.row(3).setZero();
-        N(3, 3) = 1.0;
-        g(3) = 0.0;
-      }
-      const Eigen::Vector4d refit = N.ldlt().solve(g);
-      if (!refit.allFinite() || std::abs(refit(3)) > params.max_yaw_rate_rps || !admissible(refit)) break;
-      s = score(rows, subset, column_points, refit, params.inlier_threshold_mps);
-      if (!s.better_than(best)) break;
-      best = s;
-      best_p = refit;
-    }
+    if (!p.allFinite() || p.head<3>().norm() > 100.0 || std::abs(p(3)) > params.max_yaw_rate_rps || !pb.admissible(p)) continue;
+    const Score s = score(sub, column_points, p, params.inlier_threshold_mps, r2);
+    if (!s.better_than(best.score)) continue;
+    best.score = s;
+    best.p = p;
+    local_refit(sub, column_points, pb, best, r2);
+    limit = iterations_needed(best.score, sub.v.size(), pb);
   }
-  if (prior != nullptr && best.inliers < params.min_inliers) return estimate_ego_twist(scan, params, seed, nullptr);
-  // Zero-velocity test: a standing rig sees the static world at zero Doppler.
-  const Score zero = score(rows, subset, column_points, Eigen::Vector4d::Zero(), params.inlier_threshold_mps);
-  out.standing = admissible(Eigen::Vector4d::Zero()) && zero.columns >= best.columns && zero.coverage >= params.standing_coverage_fraction * best.coverage &&
-                 zero.inliers >= params.standing_coverage_fraction * best.inliers;
-  Eigen::Vector4d p = out.standing ? Eigen::Vector4d::Zero() : best_p;
+  return best;
+}
 
-  // Refinement on all points: inliers of the current twist, Huber-weighted least squares.
+// Refinement on all points: inliers of the current twist, Huber-weighted least squares.
+// With a prior, a weak pull towards the previous twist in the rows' units (noise^2 / window^2):
+// it decides only what the points leave open, such as the yaw rate when one head alone sees the
+// static world, and it counts in the conditioning. A car's rear axle does not slide sideways:
+// with the yaw rate estimated, a soft pull of the lateral velocity towards zero (same units)
+// settles the direction in which lateral velocity and yaw rate trade off when the static world
+// shows only ahead.
+HuberSums refine(const TwistRows& rows, const TwistProblem& pb, bool standing, Eigen::Vector4d& p) {
+  const EgoTwistParams& params = pb.params;
   const double k = params.huber_k_sigma * params.noise_sigma_mps;
-  Eigen::Matrix4d N = Eigen::Matrix4d::Zero();
-  Eigen::Vector4d g = Eigen::Vector4d::Zero();
-  double rss = 0.0, weight_sum = 0.0;
-  int inliers = 0;
-  Coverage covered;
-  // With a prior, a weak pull towards the previous twist in the rows' units (noise^2 /
-  // window^2): it decides only what the points leave open, such as the yaw rate when one head
-  // alone sees the static world, and it counts in the conditioning below.
+  const double s2 = params.noise_sigma_mps * params.noise_sigma_mps;
   Eigen::Vector4d prior_info = Eigen::Vector4d::Zero();
   Eigen::Vector4d prior_twist = Eigen::Vector4d::Zero();
-  if (prior != nullptr) {
-    const double s2 = params.noise_sigma_mps * params.noise_sigma_mps;
-    prior_info << Eigen::Vector3d::Constant(s2 / (prior->max_velocity_change_mps * prior->max_velocity_change_mps)),
-        with_yaw ? s2 / (prior->max_yaw_rate_change_rps * prior->max_yaw_rate_change_rps) : 0.0;
-    prior_twist << prior->velocity_mps, with_yaw ? prior->yaw_rate_rps : 0.0;
+  if (pb.prior != nullptr) {
+    const TwistPrior& prior = *pb.prior;
+    prior_info << Eigen::Vector3d::Constant(s2 / (prior.max_velocity_change_mps * prior.max_velocity_change_mps)),
+        pb.with_yaw ? s2 / (prior.max_yaw_rate_change_rps * prior.max_yaw_rate_change_rps) : 0.0;
+    prior_twist << prior.velocity_mps, pb.with_yaw ? prior.yaw_rate_rps : 0.0;
   }
-  // A car's rear axle does not slide sideways: with the yaw rate estimated, a soft pull of the
-  // lateral velocity towards zero (same units) settles the direction in which lateral velocity
-  // and yaw rate trade off when the static world shows only ahead.
   double lateral_info = 0.0;
-  if (with_yaw && params.lateral_velocity_sigma_mps > 0.0) {
-    const double s2 = params.noise_sigma_mps * params.noise_sigma_mps;
+  if (pb.with_yaw && params.lateral_velocity_sigma_mps > 0.0) {
     lateral_info = s2 / (params.lateral_velocity_sigma_mps * params.lateral_velocity_sigma_mps);
   }
+  HuberSums sums;
   for (int iter = 0; iter < params.refine_iterations; ++iter) {
-    N.setZero();
-    g.setZero();
-    rss = weight_sum = 0.0;
-    inliers = 0;
-    covered.reset();
-    for (std::uint32_t i = 0; i < n; ++i) {
-      const double res = rows.v[i] + rows.a[i].dot(p);
-      const double ares = std::abs(res);
-      if (ares >= params.inlier_threshold_mps) continue;
-      const double w = ares <= k ? 1.0 : k / ares;
-      N.noalias() += w * rows.a[i] * rows.a[i].transpose();
-      g.noalias() -= w * rows.v[i] * rows.a[i];
-      rss += w * res * res;
-      weight_sum += w;
-      ++inliers;
-      covered.set(rows.cell[i]);
-    }
-    N.diagonal() += prior_info;
-    g += prior_info.cwiseProduct(prior_twist);
-    N(1, 1) += lateral_info;  // towards v_y = 0
-    if (out.standing || inliers < dof) break;
-    if (!with_yaw) {
-      N.col(3).setZero();
-      N.row(3).setZero();
-      N(3, 3) = 1.0;
-      g(3) = 0.0;
-    }
+    sums = huber_pass(rows, p, params.inlier_threshold_mps, k);
+    sums.N.diagonal() += prior_info;
+    sums.g += prior_info.cwiseProduct(prior_twist);
+    sums.N(1, 1) += lateral_info;  // towards v_y = 0
+    if (standing || sums.inliers < pb.dof) break;
+    Eigen::Matrix4d N = sums.N;
+    Eigen::Vector4d g = sums.g;
+    pb.fix_yaw(N, g);
     const Eigen::Vector4d next = N.ldlt().solve(g);
-    if (!next.allFinite() || std::abs(next(3)) > params.max_yaw_rate_rps || !admissible(next)) break;
+    if (!next.allFinite() || std::abs(next(3)) > params.max_yaw_rate_rps || !pb.admissible(next)) break;
     p = next;
   }
-  out.inliers = inliers;
-  out.inlier_fraction = static_cast<double>(inliers) / n;
-  out.coverage_cells = static_cast<int>(covered.count());
+  return sums;
+}
+
+// The estimate from the refined twist p and the sums of its last pass: conditioning and
+// covariance of the estimated parameters, sigma^2 N^-1 on the inliers.
+void fill_estimate(const TwistRows& rows, const HuberSums& sums, const Eigen::Vector4d& p, const TwistProblem& pb,
+                   EgoTwistEstimate& out) {
+  const std::size_t n = rows.size();
+  const Eigen::Matrix4d& N = sums.N;
+  const int dof = pb.dof;
+  out.inliers = sums.inliers;
+  out.inlier_fraction = static_cast<double>(sums.inliers) / n;
   out.velocity.velocity_mps = p.head<3>();
-  out.velocity.num_points = inliers;
-  out.angular_velocity_rps = Eigen::Vector3d(0.0, 0.0, with_yaw ? p(3) : 0.0);
-  out.yaw_rate_estimated = with_yaw;
-  // Conditioning and covariance of the estimated parameters: sigma^2 N^-1 on the inliers.
-  const Eigen::MatrixXd Nd = with_yaw ? Eigen::MatrixXd(N) : Eigen::MatrixXd(N.topLeftCorner<3, 3>());
+  out.velocity.num_points = sums.inliers;
+  out.angular_velocity_rps = Eigen::Vector3d(0.0, 0.0, pb.with_yaw ? p(3) : 0.0);
+  out.yaw_rate_estimated = pb.with_yaw;
+  const Eigen::MatrixXd Nd = pb.with_yaw ? Eigen::MatrixXd(N) : Eigen::MatrixXd(N.topLeftCorner<3, 3>());
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Nd);
   const double lmin = eig.eigenvalues()(0);
   out.velocity.information_eigenvalues = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(N.topLeftCorner<3, 3>()).eigenvalues();
   out.velocity.condition_number = lmin > 0.0 ? eig.eigenvalues()(dof - 1) / lmin : std::numeric_limits<double>::infinity();
-  out.velocity.residual_rms_mps = weight_sum > 0.0 ? std::sqrt(rss / weight_sum) : VelocityEstimate::kNaN;
-  if (inliers > dof && lmin > 0.0) {
-    const double sigma2 = rss / std::max(1.0, weight_sum - dof);
+  out.velocity.residual_rms_mps = sums.weight_sum > 0.0 ? std::sqrt(sums.rss / sums.weight_sum) : VelocityEstimate::kNaN;
+  if (sums.inliers > dof && lmin > 0.0) {
+    const double sigma2 = sums.rss / std::max(1.0, sums.weight_sum - dof);
     const Eigen::MatrixXd cov = sigma2 * Nd.inverse();
     out.velocity.covariance = cov.topLeftCorner<3, 3>();
-    out.yaw_rate_std_rps = with_yaw ? std::sqrt(cov(3, 3)) : 0.0;
+    out.yaw_rate_std_rps = pb.with_yaw ? std::sqrt(cov(3, 3)) : 0.0;
   }
-  out.valid = inliers >= std::max(dof, params.min_inliers) && std::isfinite(out.velocity.condition_number) && p.allFinite();
+  out.valid = sums.inliers >= std::max(dof, pb.params.min_inliers) && std::isfinite(out.velocity.condition_number) &&
+              p.allFinite();
   out.velocity.valid = out.valid;
+}
+
+}  // namespace
+
+EgoTwistEstimate estimate_ego_twist(const Scan& scan, const ScanBeams& beams, const EgoTwistParams& params,
+                                    std::uint64_t seed, const TwistPrior* prior, EgoTwistWorkspace& ws) {
+  EgoTwistEstimate out;
+  const TwistRows& rows = ws.rows;
+  gather_rows(scan, beams, ws.rows);
+  const auto n = static_cast<std::uint32_t>(rows.v.size());
+  if (n < 4) return out;
+
+  // The yaw rate is observable only when heads sit at different points.
+  bool distinct_mounts = false;
+  for (const auto& h : scan.heads) distinct_mounts |= (h.origin_m() - scan.heads.front().origin_m()).norm() > 0.01;
+  TwistProblem pb{params, prior};
+  pb.with_yaw = params.estimate_yaw_rate && distinct_mounts;
+  pb.dof = pb.with_yaw ? 4 : 3;
+
+  // MSAC on a seeded subset of the points.
+  const std::vector<std::uint32_t> subset = subsample_indices(n, static_cast<std::uint32_t>(params.sample_points), seed);
+  std::vector<int> column_points(kCellCols, 0);
+  for (const std::uint32_t k : subset) ++column_points[rows.cell[k] % kCellCols];
+  const TwistRows& sub = ws.sub;
+  subset_rows(rows, subset, ws.sub);
+  const MsacResult best = msac(sub, column_points, pb, seed, ws.r2);
+  if (prior != nullptr && best.score.inliers < params.min_inliers) return estimate_ego_twist(scan, beams, params, seed, nullptr, ws);
+  // Zero-velocity test: a standing rig sees the static world at zero Doppler.
+  const Score zero = score(sub, column_points, Eigen::Vector4d::Zero(), params.inlier_threshold_mps, ws.r2);
+  out.standing = pb.admissible(Eigen::Vector4d::Zero()) && zero.columns >= best.score.columns &&
+                 zero.coverage >= params.standing_coverage_fraction * best.score.coverage &&
+                 zero.inliers >= params.standing_coverage_fraction * best.score.inliers;
+  Eigen::Vector4d p = out.standing ? Eigen::Vector4d::Zero() : best.p;
+  const HuberSums sums = refine(rows, pb, out.standing, p);
+  fill_estimate(rows, sums, p, pb, out);
   return out;
 }
 

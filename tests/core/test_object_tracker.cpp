@@ -240,7 +240,7 @@ TEST(ObjectTracker, ACarPassingAWalkerKeepsItsOwnTrack) {
 // its front end is cut by the view.
 double centre_error_of_a_car_leaving_the_view(double view_cut_cosine, int first, int last) {
   MotionPipelineParams params = MotionPipelineParams::preset("tracked");
-  params.tracking.view_cut_cosine = view_cut_cosine;
+  params.tracking.box.view_cut_cosine = view_cut_cosine;
   MotionPipeline tracked(params);
   const auto car_at = [](double t) {
     SyntheticBox b;
@@ -267,7 +267,7 @@ double centre_error_of_a_car_leaving_the_view(double view_cut_cosine, int first,
 TEST(ObjectTracker, TheCentreOfACarLeavingTheViewStaysOnTheCar) {
   // From t = 3.0 s the car's front (x = 16 - 4t - 2.2) runs beyond the edge of the view; at
   // t = 3.6 s more than two metres of it are cut. The end the view cuts is no face of the car.
-  const double with_cuts = centre_error_of_a_car_leaving_the_view(TrackerParams{}.view_cut_cosine, 30, 36);
+  const double with_cuts = centre_error_of_a_car_leaving_the_view(TrackerParams{}.box.view_cut_cosine, 30, 36);
   EXPECT_LT(with_cuts, 0.3);
   // Control: with no end ever taken as cut, the centre follows the cut end backwards.
   const double without = centre_error_of_a_car_leaving_the_view(0.999, 30, 36);
@@ -298,7 +298,7 @@ struct TwoCars {
 std::vector<TwoCars> two_cars_in_line(bool merge, double split_min_share) {
   MotionPipeline robust(MotionPipelineParams::preset("robust"));
   TrackerParams tp;
-  tp.split_min_share = split_min_share;
+  tp.association.split_min_share = split_min_share;
   ObjectTracker tracker(tp);
   std::vector<TwoCars> out;
   for (int k = 0; k < 20; ++k) {
@@ -332,7 +332,7 @@ std::vector<TwoCars> two_cars_in_line(bool merge, double split_min_share) {
 }
 
 TEST(ObjectTracker, TwoCarsInOneClusterAreSplitAsOneScanWouldHaveSeparatedThem) {
-  const double share = TrackerParams{}.split_min_share;
+  const double share = TrackerParams{}.association.split_min_share;
   const std::vector<TwoCars> apart = two_cars_in_line(false, share);
   const std::vector<TwoCars> merged = two_cars_in_line(true, share);
   ASSERT_EQ(apart.size(), 10u);
@@ -380,7 +380,7 @@ struct WalkerErrors {
 WalkerErrors walker_beside_another(int walker_hits) {
   MotionPipeline robust(MotionPipelineParams::preset("robust"));
   TrackerParams tp;
-  tp.walker_hits = walker_hits;
+  tp.small.walker_hits = walker_hits;
   ObjectTracker tracker(tp);
   const Eigen::Vector3d v(0.0, 1.2, 0.0);
   WalkerErrors err;
@@ -409,7 +409,7 @@ WalkerErrors walker_beside_another(int walker_hits) {
 TEST(ObjectTracker, AWalkerSharingItsClusterWithTheNextStaysAWalker) {
   // The reported centre is the median of the visible pixels: 0.25 m before the true one, on
   // the face towards the rig.
-  const WalkerErrors walker = walker_beside_another(TrackerParams{}.walker_hits);
+  const WalkerErrors walker = walker_beside_another(TrackerParams{}.small.walker_hits);
   EXPECT_EQ(walker.untracked, 0);
   EXPECT_LT(walker.velocity, 0.3);
   EXPECT_EQ(walker.yaw_rate, 0.0);
@@ -425,7 +425,7 @@ TEST(ObjectTracker, AWalkerSharingItsClusterWithTheNextStaysAWalker) {
 // 1.3 m/s whose leg (a box below the torso) swings 0.3 m ahead of it and behind it.
 double striding_walker_velocity_error(int walker_hits) {
   MotionPipelineParams params = MotionPipelineParams::preset("tracked");
-  params.tracking.walker_hits = walker_hits;
+  params.tracking.small.walker_hits = walker_hits;
   MotionPipeline tracked(params);
   const Eigen::Vector3d v(1.3, 0.0, 0.0);
   const double w = 2.0 * M_PI * 0.9;  // stride angular frequency [rad/s]
@@ -455,7 +455,7 @@ double striding_walker_velocity_error(int walker_hits) {
 
 TEST(ObjectTracker, AStridingLegDoesNotMoveAWalkersCentre) {
   // A walker's centre is the median of its pixels: the torso's.
-  const double median_centre = striding_walker_velocity_error(TrackerParams{}.walker_hits);
+  const double median_centre = striding_walker_velocity_error(TrackerParams{}.small.walker_hits);
   EXPECT_LT(median_centre, 0.1);
   // Control: without walkers the centre hangs on the end of the outline nearest the rig, the
   // trailing foot, and its path swings with the stride.
@@ -470,7 +470,7 @@ TEST(ObjectTracker, AStridingLegDoesNotMoveAWalkersCentre) {
 double width_after_a_poor_first_heading(double heading_reset_rad) {
   MotionPipeline robust(MotionPipelineParams::preset("robust"));
   TrackerParams tp;
-  tp.heading_reset_rad = heading_reset_rad;
+  tp.box.heading_reset_rad = heading_reset_rad;
   ObjectTracker tracker(tp);
   const Eigen::Vector3d v(0.0, 6.0, 0.0);
   std::int32_t track = 0;
@@ -508,7 +508,7 @@ double width_after_a_poor_first_heading(double heading_reset_rad) {
 
 TEST(ObjectTracker, ABoxMeasuredAlongAPoorFirstHeadingIsMeasuredAgain) {
   // Once the velocity has turned to the car's true heading, the extents are measured along it.
-  const double width = width_after_a_poor_first_heading(TrackerParams{}.heading_reset_rad);
+  const double width = width_after_a_poor_first_heading(TrackerParams{}.box.heading_reset_rad);
   EXPECT_LT(width, 2.2);
   // Control: never measured again, the box keeps the width it had across the first heading.
   const double kept = width_after_a_poor_first_heading(10.0);
@@ -527,7 +527,7 @@ struct BandWalkers {
 
 BandWalkers walkers_in_the_band(int background_min_frames) {
   MotionPipelineParams params = MotionPipelineParams::preset("tracked");
-  params.tracking.background_min_frames = background_min_frames;
+  params.tracking.background.min_frames = background_min_frames;
   MotionPipeline tracked(params);
   const Eigen::Vector3d v(0.0, 1.2, 0.0);
   BandWalkers out;
@@ -552,7 +552,7 @@ BandWalkers walkers_in_the_band(int background_min_frames) {
 TEST(ObjectTracker, WithTheRigStandingWhatComesIntoEmptySpaceNearATrackIsMoving) {
   // The second walker's pixels are nearer than anything the beams saw there since the rig
   // stopped, and lie within 2 m of the first walker's box: they take its label.
-  const BandWalkers with = walkers_in_the_band(TrackerParams{}.background_min_frames);
+  const BandWalkers with = walkers_in_the_band(TrackerParams{}.background.min_frames);
   EXPECT_GT(with.second_moving, 0.8);
   EXPECT_EQ(with.static_moving, 0);
   // Control: without the background, one scan calls the second walker static and no track
@@ -575,7 +575,7 @@ struct BandSlice {
 
 BandSlice car_cut_by_the_band(double grow_reach_m, double y0, int first, int last) {
   MotionPipelineParams params = MotionPipelineParams::preset("tracked");
-  params.tracking.grow_reach_m = grow_reach_m;
+  params.tracking.growth.reach_m = grow_reach_m;
   MotionPipeline tracked(params);
   const auto car = [&](double t) {
     SyntheticBox b;
@@ -608,7 +608,7 @@ BandSlice car_cut_by_the_band(double grow_reach_m, double y0, int first, int las
 TEST(ObjectTracker, TheBandCutsACrossingCarButItsSurfaceGrowsThroughIt) {
   // One scan, no track yet: the car spans y = -0.75 .. 3.75 m, the band cuts off its rear
   // third. Grown by its cluster's single-scan velocity, the rear is moving as well.
-  const BandSlice once = car_cut_by_the_band(TrackerParams{}.grow_reach_m, 1.5, 0, 0);
+  const BandSlice once = car_cut_by_the_band(TrackerParams{}.growth.reach_m, 1.5, 0, 0);
   ASSERT_GT(once.band_pixels, 50);
   EXPECT_GT(once.band_moving, 0.9);
   EXPECT_EQ(once.static_moving, 0);
@@ -617,7 +617,7 @@ TEST(ObjectTracker, TheBandCutsACrossingCarButItsSurfaceGrowsThroughIt) {
   EXPECT_LT(once_without.band_moving, 0.3);
   // Tracked from y = -8 m, the band sweeping over the car from its front to its rear
   // (frames 11 .. 15), the track's growth beside its claims: still nothing static is moving.
-  const BandSlice run = car_cut_by_the_band(TrackerParams{}.grow_reach_m, -8.0, 11, 15);
+  const BandSlice run = car_cut_by_the_band(TrackerParams{}.growth.reach_m, -8.0, 11, 15);
   ASSERT_GT(run.band_pixels, 200);
   EXPECT_GT(run.band_moving, 0.9);
   EXPECT_EQ(run.static_moving, 0);
@@ -641,27 +641,57 @@ TEST(ObjectTracker, ResetsWhenTimeGoesBackOrJumps) {
   ASSERT_EQ(tracker.tracks().size(), 1u);
   EXPECT_EQ(tracker.tracks()[0].hits, 3);
   EXPECT_TRUE(tracker.tracks()[0].confirmed);
+  const ObjectTracker before_gap = tracker;
   Frame back = render_at(1, car, 0.0);  // time steps back: a new sequence
   MotionEstimate e = robust.process(back.scan);
   tracker.update(back.scan, e);
   ASSERT_EQ(tracker.tracks().size(), 1u);
   EXPECT_EQ(tracker.tracks()[0].hits, 1);
   EXPECT_FALSE(tracker.tracks()[0].confirmed);
+
+  // Forward in time: the next frame (0.1 s on) continues the track, one beyond max_gap_s
+  // starts a new sequence.
+  const int gap_frames = static_cast<int>(TrackerParams{}.lifecycle.max_gap_s / 0.1);
+  for (const int k : {3, 3 + gap_frames + 5}) {
+    ObjectTracker t = before_gap;
+    Frame f = render_at(k, car, 0.0);
+    MotionEstimate est = robust.process(f.scan);
+    t.update(f.scan, est);
+    ASSERT_EQ(t.tracks().size(), 1u) << "frame " << k;
+    EXPECT_EQ(t.tracks()[0].hits, k == 3 ? 4 : 1) << "frame " << k;
+    EXPECT_EQ(t.tracks()[0].confirmed, k == 3) << "frame " << k;
+  }
 }
 
-TEST(ObjectTracker, RejectsBadParameters) {
-  TrackerParams p;
-  p.doppler_sigma_mps = 0.0;
-  EXPECT_THROW(ObjectTracker{p}, std::invalid_argument);
-  p = TrackerParams{};
-  p.max_gap_s = -1.0;
-  EXPECT_THROW(ObjectTracker{p}, std::invalid_argument);
-  p = TrackerParams{};
-  p.grow_range_gap_m = 0.0;
-  EXPECT_THROW(ObjectTracker{p}, std::invalid_argument);
-  p = TrackerParams{};
-  p.grow_reach_m = -1.0;
-  EXPECT_THROW(ObjectTracker{p}, std::invalid_argument);
+// Each bad value is refused with a message that names its field.
+TEST(ObjectTracker, RejectsBadParametersNamingTheField) {
+  const auto message = [](const TrackerParams& p) -> std::string {
+    try {
+      ObjectTracker{p};
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  const auto refused = [&](const TrackerParams& p, const std::string& what) {
+    const std::string m = message(p);
+    return m.find(what) != std::string::npos ? ::testing::AssertionSuccess() : ::testing::AssertionFailure() << m;
+  };
+  EXPECT_EQ(message(TrackerParams{}), "accepted");
+  const std::vector<std::pair<std::function<void(TrackerParams&)>, std::string>> cases = {
+      {[](TrackerParams& p) { p.measurement.doppler_sigma_mps = 0.0; }, "tracking.measurement.doppler_sigma_mps must be > 0, got 0"},
+      {[](TrackerParams& p) { p.lifecycle.max_gap_s = -1.0; }, "tracking.lifecycle.max_gap_s must be > 0, got -1"},
+      {[](TrackerParams& p) { p.growth.range_gap_m = 0.0; }, "tracking.growth.range_gap_m must be > 0"},
+      {[](TrackerParams& p) { p.growth.reach_m = -1.0; }, "tracking.growth.reach_m"},
+      // below turn_release_significance (2)
+      {[](TrackerParams& p) { p.turning.turn_significance = 1.0; }, "tracking.turning.turn_significance"},
+      {[](TrackerParams& p) { p.box.view_cut_cosine = 1.0; }, "tracking.box.view_cut_cosine must be in [0, 1), got 1"},
+  };
+  for (const auto& [set, expected] : cases) {
+    TrackerParams p;
+    set(p);
+    EXPECT_TRUE(refused(p, expected)) << expected;
+  }
 }
 
 }  // namespace

@@ -23,12 +23,61 @@ struct BenchOptions {
   std::string scenario = FMCW_SOURCE_DIR "/scenarios/intersection.yaml";
   int sim_threads = 0;
   int sim_frames = 50;
+  int sequence_frames = 40;
+  int sequence_warmup = 5;
+  int sequence_repeats = 3;
 };
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const std::size_t m = v.size() / 2;
   return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+// The tracked method (and robust beside it) over a short simulated sequence of the scenario, in
+// time order, each frame timed after the first sequence_warmup (tracks are then established);
+// median over all timed frames of sequence_repeats passes, each with a fresh pipeline.
+void bench_sequence(const BenchOptions& opt, const sim::LoadedScenario& loaded, nlohmann::json& out) {
+  if (opt.sequence_frames <= opt.sequence_warmup) return;
+  sim::SimulationSetup setup = sim::build_simulation(loaded, opt.sim_threads);
+  sim::LidarSimulator simulator(setup.scene, setup.ego, setup.params);
+  std::vector<core::Scan> scans(static_cast<std::size_t>(opt.sequence_frames));
+  core::Frame f;
+  for (int k = 0; k < opt.sequence_frames; ++k) {
+    const auto frame = static_cast<std::uint64_t>(k);
+    simulator.simulate(frame, loaded.scenario.frame_time_s(frame), f);
+    scans[static_cast<std::size_t>(k)] = f.scan;
+  }
+  for (const std::string method : {"robust", "tracked"}) {
+    core::MotionPipelineParams params = core::MotionPipelineParams::preset(method);
+    params.num_threads = opt.threads;
+    std::vector<double> total, clustering, ego, objects;
+    for (int rep = 0; rep < opt.sequence_repeats; ++rep) {
+      core::MotionPipeline pipeline(params);
+      for (int k = 0; k < opt.sequence_frames; ++k) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const core::MotionEstimate est = pipeline.process(scans[static_cast<std::size_t>(k)], static_cast<std::uint64_t>(k));
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        if (k < opt.sequence_warmup) continue;
+        total.push_back(ms);
+        clustering.push_back(est.timing.clustering_ms);
+        ego.push_back(est.timing.ego_ms);
+        objects.push_back(est.timing.objects_ms);
+      }
+    }
+    const double ms = median(total);
+    const std::size_t timed = total.size();
+    out["sequence"][method] = {{"scenario", loaded.scenario.name}, {"ms_per_frame", ms},
+                               {"clustering_ms", median(clustering)}, {"ego_ms", median(ego)},
+                               {"objects_ms", median(objects)}, {"frames_timed", timed},
+                               {"warmup_frames", opt.sequence_warmup}, {"passes", opt.sequence_repeats}};
+    if (!opt.json) {
+      std::cout << method << " on " << loaded.scenario.name << " (sequence): " << ms << " ms per frame (median of "
+                << timed << " frames after " << opt.sequence_warmup << " warm-up, " << opt.sequence_repeats
+                << " passes); clustering " << median(clustering) << " ms, ego " << median(ego) << " ms, objects "
+                << median(objects) << " ms\n";
+    }
+  }
 }
 
 int run_bench(const BenchOptions& opt) {
@@ -68,10 +117,11 @@ int run_bench(const BenchOptions& opt) {
                 << median(ego) << " ms, objects " << median(objects) << " ms, " << clusters << " clusters\n";
     }
   }
+  const sim::LoadedScenario loaded = sim::load_scenario(opt.scenario);
+  say_notices(loaded.notices);
+  bench_sequence(opt, loaded, out);
   // Simulation of one frame of the scenario's rig, scene update included.
   {
-    const sim::LoadedScenario loaded = sim::load_scenario(opt.scenario);
-    say_notices(loaded.notices);
     sim::SimulationSetup setup = sim::build_simulation(loaded, opt.sim_threads);
     sim::LidarSimulator simulator(setup.scene, setup.ego, setup.params);
     const double rays = static_cast<double>(setup.params.rig.rows()) * setup.params.rig.cols();
@@ -100,7 +150,7 @@ int run_bench(const BenchOptions& opt) {
 
 Action add_bench_command(CLI::App& app) {
   auto opt = std::make_shared<BenchOptions>();
-  CLI::App* cmd = app.add_subcommand("bench", "Time the motion methods (fast, paper, robust) and the simulator");
+  CLI::App* cmd = app.add_subcommand("bench", "Time the motion methods (fast, paper, robust on one frame; robust and tracked over a sequence) and the simulator");
   cmd->add_flag("--json", opt->json, "Print JSON");
   cmd->add_option("--objects", opt->objects, "Moving objects in the frame")->check(CLI::Range(0, 1000));
   cmd->add_option("--repeats", opt->repeats, "Timed runs per method (default 200 fast, 30 paper)")->check(CLI::NonNegativeNumber);
@@ -108,6 +158,12 @@ Action add_bench_command(CLI::App& app) {
   cmd->add_option("--scenario", opt->scenario, "Scenario whose first frames are simulated and timed");
   cmd->add_option("--sim-threads", opt->sim_threads, "Ray-casting threads (0 = all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--sim-frames", opt->sim_frames, "Simulated frames timed")->check(CLI::PositiveNumber);
+  cmd->add_option("--sequence-frames", opt->sequence_frames,
+                  "Frames of the scenario the tracked method runs through in order (0: no sequence benchmark)")
+      ->check(CLI::Range(0, 10000));
+  cmd->add_option("--sequence-warmup", opt->sequence_warmup, "Leading frames of the sequence not timed")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--sequence-repeats", opt->sequence_repeats, "Passes over the sequence")->check(CLI::Range(1, 1000));
   return [opt] { return run_bench(*opt); };
 }
 

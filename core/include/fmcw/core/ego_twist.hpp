@@ -14,7 +14,12 @@ namespace fmcw::core {
 struct EgoTwistParams {
   double noise_sigma_mps = 0.031;       ///< Doppler noise of the sensor [m/s] (Table I)
   double inlier_threshold_mps = 0.1;    ///< RANSAC: |residual| below this is an inlier [m/s]
-  int ransac_iterations = 150;          ///< minimal-set hypotheses (each new best is refit on its inliers)
+  int ransac_iterations = 150;          ///< minimal-set hypotheses at most (each new best is refit on its inliers)
+  /// Early termination: once the best hypothesis holds inliers in every azimuth column, MSAC
+  /// stops after enough minimal sets to have drawn an all-inlier one with this confidence
+  /// (from its inlier fraction), but not before min_ransac_iterations.
+  double ransac_confidence = 0.999;
+  int min_ransac_iterations = 30;
   int sample_points = 3000;             ///< points RANSAC scores hypotheses on (seeded subset)
   /// Also estimate the yaw rate: possible when heads sit at different mount points, since each
   /// head's origin moves at V + omega x r_head. With one mount point it is not observable and
@@ -35,7 +40,6 @@ struct EgoTwistParams {
   /// Standing test: when the zero twist explains the points as well as the best hypothesis
   /// (coverage and inliers within these fractions), the ego is declared standing.
   double standing_coverage_fraction = 0.98;
-  std::uint64_t seed = 0;
 
   void validate() const;
 };
@@ -50,7 +54,6 @@ struct EgoTwistEstimate {
   bool standing = false;                      ///< the zero-velocity test held: V = omega = 0
   int inliers = 0;                            ///< static-consistent points of the final fit
   double inlier_fraction = 0.0;               ///< of the valid points
-  int coverage_cells = 0;                     ///< image cells holding inliers (of 24 x 6)
   bool valid = false;
 
   /// Velocity of a point fixed to the rig at r (rig frame): V + omega x r.
@@ -62,6 +65,17 @@ struct EgoTwistEstimate {
 /// window are rejected, and the previous twist is itself a hypothesis. This keeps the ego from
 /// jumping to vehicles that together fill most of the view (a bus on one side, a truck on the
 /// other, each explained as "static" by a wild yaw rate).
+/// How far one frame's twist may move from the previous one's (the window of TwistPrior): by
+/// acceleration times the frame gap, plus a margin.
+struct TwistPriorParams {
+  double accel_mps2 = 8.0;           ///< [m/s^2]
+  double velocity_margin_mps = 0.3;  ///< [m/s]
+  double yaw_accel_rps2 = 2.0;       ///< [rad/s^2]
+  double yaw_rate_margin_rps = 0.1;  ///< [rad/s]
+
+  void validate() const;
+};
+
 struct TwistPrior {
   Eigen::Vector3d velocity_mps = Eigen::Vector3d::Zero();
   double yaw_rate_rps = 0.0;

@@ -2,6 +2,7 @@
 // Scan -> MotionEstimate: segmentation, ego velocity, per-object velocity, with stage timings.
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,9 @@ struct MotionPipelineParams {
   SegmentationParams segmentation;  ///< kLargestRegionStatic
   VelocityParams velocity;
   EgoTwistParams ego;               ///< kRobustEgo
+  /// kRobustEgo with track_objects: the previous frame's twist bounds this one's (TwistPrior),
+  /// for frames at most tracking.lifecycle.max_gap_s apart.
+  TwistPriorParams ego_prior;
   /// kRobustEgo: a point moves when its ego-compensated Doppler |v + e . V_origin| exceeds this
   /// many standard deviations (sensor noise and the ego estimate's uncertainty along e).
   double moving_sigma = 4.0;
@@ -134,6 +138,24 @@ struct MotionEstimate {
 
 std::string to_string(MotionStatus status);
 
+struct PipelineWorkspace;  // internal to core
+
+/// Buffers the robust methods fill anew each frame, kept from frame to frame so that a sequence
+/// does not allocate (and fault in) megabytes per frame. A copy starts with empty buffers.
+class PipelineBuffers {
+ public:
+  PipelineBuffers();
+  PipelineBuffers(const PipelineBuffers&);
+  PipelineBuffers& operator=(const PipelineBuffers&);
+  PipelineBuffers(PipelineBuffers&&) noexcept;
+  PipelineBuffers& operator=(PipelineBuffers&&) noexcept;
+  ~PipelineBuffers();
+  PipelineWorkspace& get() const { return *p_; }
+
+ private:
+  std::unique_ptr<PipelineWorkspace> p_;
+};
+
 /// Runs the configured method. Throws std::invalid_argument for a malformed scan (sizes, heads,
 /// NaN/Inf in valid pixels); a scan with nothing to estimate is a status, not an exception.
 class MotionPipeline {
@@ -143,11 +165,13 @@ class MotionPipeline {
   const MotionPipelineParams& params() const { return params_; }
 
  private:
-  MotionEstimate process_robust(const Scan& scan, std::uint64_t frame_index);
+  MotionEstimate process_robust(const Scan& scan, std::uint64_t frame_index);   // robust_method.cpp
+  MotionEstimate process_regions(const Scan& scan, std::uint64_t frame_index);  // region_methods.cpp
 
   MotionPipelineParams params_;
   DopplerSegmenter segmenter_;
   ObjectTracker tracker_;
+  PipelineBuffers buffers_;
   // The last frame's ego twist, for TwistPrior when tracking.
   bool has_last_twist_ = false;
   double last_twist_stamp_s_ = 0.0;

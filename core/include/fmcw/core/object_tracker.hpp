@@ -13,114 +13,146 @@ namespace fmcw::core {
 
 struct MotionEstimate;
 
+/// The tracker's parameters, by stage (core/src/tracking/, docs/METHODS.md).
 struct TrackerParams {
-  /// Per-row standard deviation of an object's Doppler rows: sensor noise plus what a rigid
-  /// model does not explain (body panels at grazing angles, residual limb motion) [m/s].
-  double doppler_sigma_mps = 0.08;
-  /// Rows of one object count as at most this many independent rows: neighbouring pixels of
-  /// one body share their model error, so thousands of rows are not thousands of measurements.
-  int max_effective_rows = 150;
-  /// Rows whose residual against the object's single-scan fit exceeds this many robust
-  /// standard deviations (and outlier_floor_mps) are left out: wheels, swinging limbs.
-  double outlier_sigmas = 3.0;
-  double outlier_floor_mps = 0.15;
-  double position_sigma_m = 0.7;       ///< box-centre measurement noise [m]
-  /// Objects whose box is shorter than this on both axes (walkers, a cyclist seen head-on) span
-  /// a few degrees: their Doppler rows fix the radial velocity but hardly the tangential one,
-  /// and swinging limbs bias what little they say about it. Such an object is measured by its
-  /// mean Doppler along its mean beam, and its tangential velocity comes from its path [m].
-  double small_object_m = 1.2;
-  double small_position_sigma_m = 0.15;        ///< box-centre noise of a small object [m]
-  double small_doppler_floor_mps = 0.05;       ///< floor of its mean-Doppler noise (gait) [m/s]
-  double small_initial_tangential_sigma_mps = 1.5;  ///< its tangential velocity at birth [m/s]
-  /// A track small for walker_hits consecutive updates and slower than walker_max_speed_mps is
-  /// a walker, and stays one while it stays that slow: walkers side by side at one speed make
-  /// one cluster, and a box grown over two of them would turn the walker into a rigid body
-  /// with a yaw rate. A walker's own pixels are those inside its predicted box (grown by
-  /// claim_margin_m), its box stays under small_object_m, and its centre is the median of its
-  /// pixels along the box axes (the torso: the limbs swing about it, and an end of the
-  /// outline is a foot or a hand).
-  int walker_hits = 3;
-  double walker_max_speed_mps = 3.0;
-  /// A small object wholly inside the blind band is seen only through the pixels its track
-  /// claims; their centre is a weak measurement of its position (they may include whatever
-  /// stands close by) [m].
-  double claim_position_sigma_m = 0.75;
-  double accel_sigma_mps2 = 2.5;        ///< constant-turn-rate model: acceleration noise [m/s^2]
-  double yaw_accel_sigma_rps2 = 0.8;    ///< yaw acceleration noise [rad/s^2]
-  double initial_yaw_rate_sigma_rps = 0.4;
+  /// The measurement update: each pixel's Doppler a row, the box centre a position.
+  struct Measurement {
+    /// Per-row standard deviation of an object's Doppler rows: sensor noise plus what a rigid
+    /// model does not explain (body panels at grazing angles, residual limb motion) [m/s].
+    double doppler_sigma_mps = 0.08;
+    /// Rows of one object count as at most this many independent rows: neighbouring pixels of
+    /// one body share their model error, so thousands of rows are not thousands of measurements.
+    int max_effective_rows = 150;
+    /// Rows whose residual against the track's prediction exceeds this many robust standard
+    /// deviations (and outlier_floor_mps) are left out: wheels, swinging limbs [m/s].
+    double outlier_sigmas = 3.0;
+    double outlier_floor_mps = 0.15;
+    double position_sigma_m = 0.7;  ///< box-centre measurement noise [m]
+    /// A small object wholly inside the blind band is seen only through the pixels its track
+    /// claims; their centre is a weak measurement of its position (they may include whatever
+    /// stands close by) [m].
+    double claim_position_sigma_m = 0.75;
+  } measurement;
+
+  /// Small objects and walkers.
+  struct Small {
+    /// Objects whose box is shorter than this on both axes (walkers, a cyclist seen head-on)
+    /// span a few degrees: their Doppler rows fix the radial velocity but hardly the tangential
+    /// one, and swinging limbs bias what little they say about it. Such an object is measured by
+    /// its mean Doppler along its mean beam, and its tangential velocity comes from its path [m].
+    double small_object_m = 1.2;
+    double position_sigma_m = 0.15;              ///< box-centre noise of a small object [m]
+    double doppler_floor_mps = 0.05;             ///< floor of its mean-Doppler noise (gait) [m/s]
+    double initial_tangential_sigma_mps = 1.5;   ///< its tangential velocity at birth [m/s]
+    /// A track small for walker_hits consecutive updates and slower than walker_max_speed_mps
+    /// is a walker, and stays one while it stays that slow: walkers side by side at one speed
+    /// make one cluster, and a box grown over two of them would turn the walker into a rigid
+    /// body with a yaw rate. A walker's own pixels are those inside its predicted box (grown by
+    /// claims.claim_margin_m), its box stays under small_object_m, and its centre is the median
+    /// of its pixels along the box axes (the torso: the limbs swing about it, and an end of the
+    /// outline is a foot or a hand).
+    int walker_hits = 3;
+    double walker_max_speed_mps = 3.0;
+  } small;
+
+  /// The constant-turn-rate filter.
+  struct Motion {
+    double accel_sigma_mps2 = 2.5;        ///< acceleration noise [m/s^2]
+    double yaw_accel_sigma_rps2 = 0.8;    ///< yaw acceleration noise [rad/s^2]
+    double initial_yaw_rate_sigma_rps = 0.4;      ///< yaw rate at birth [rad/s]
+    double max_initial_velocity_sigma_mps = 6.0;  ///< caps the unobservable direction at birth [m/s]
+    double max_yaw_rate_rps = 1.5;        ///< bound of a track's yaw rate [rad/s]
+  } motion;
+
   /// A track starts turning (its velocity reported at its centre with the yaw rate) when
-  /// |omega| exceeds min_turn_rate_rps and turn_significance standard deviations after at
-  /// least min_turn_hits updates (a young track's yaw rate follows its box as more of the
-  /// object comes into view), and stops when |omega| falls below min_turn_rate_rps or
+  /// |omega| exceeds min_turn_rate_rps and turn_significance standard deviations after at least
+  /// min_turn_hits updates (a young track's yaw rate follows its box as more of the object comes
+  /// into view), and stops when |omega| falls below min_turn_rate_rps or
   /// turn_release_significance standard deviations. Otherwise the velocity reported is the one
   /// its Doppler field shows, with yaw rate 0.
-  double min_turn_rate_rps = 0.05;
-  double turn_significance = 3.0;
-  double turn_release_significance = 2.0;
-  int min_turn_hits = 5;
-  double max_initial_velocity_sigma_mps = 6.0;  ///< caps the unobservable direction at birth
-  double gate_m = 2.0;                  ///< association: cluster centroid within the predicted box grown by this [m]
-  int min_cluster_pixels = 8;           ///< smaller clusters neither start nor update tracks
-  /// A cluster joins a track only when the track's predicted motion explains its Doppler to
-  /// within this (median over its pixels) [m/s].
-  double associate_doppler_tolerance_mps = 0.6;
-  /// Tracks at least this long are vehicles: a second cluster joins one up to the gate from its
-  /// box (its far end may not have been seen yet), and small clusters inside its box whose
-  /// Doppler it does not explain (wheels) take its label without being measured [m].
-  double vehicle_length_m = 3.0;
-  int absorb_max_pixels = 60;           ///< size bound of such a wheel cluster [pixels]
-  /// A cluster is split between two or more tracks when each one's predicted box holds at
-  /// least this share of the pixels that track had last frame (two cars nose to tail at one
-  /// speed make one cluster).
-  double split_min_share = 0.5;
-  double max_yaw_rate_rps = 1.5;        ///< bound of a track's yaw rate [rad/s]
-  int confirm_hits = 3;                 ///< hysteresis: updates before a track may carry labels
-  int max_misses = 5;                   ///< frames a track survives without a cluster
-  double carry_min_speed_mps = 0.8;     ///< a confirmed track carries "moving" while faster than this
-  int release_slow_frames = 3;          ///< ... and stops after this many frames below it
-  double claim_margin_m = 0.25;         ///< the predicted box grows by this when claiming pixels [m]
-  double claim_ground_clearance_m = 0.12;  ///< claimed pixels lie this far above the track's lowest point [m]
-  double claim_doppler_tolerance_mps = 0.25;  ///< claimed pixels' Doppler agrees with the track's motion
+  struct Turning {
+    double min_turn_rate_rps = 0.05;  ///< [rad/s]
+    double turn_significance = 3.0;
+    double turn_release_significance = 2.0;
+    int min_turn_hits = 5;
+  } turning;
+
+  /// Association of clusters to tracks.
+  struct Association {
+    double gate_m = 2.0;  ///< cluster centroid within the predicted box grown by this [m]
+    int min_cluster_pixels = 8;  ///< smaller clusters neither start nor update tracks
+    /// A cluster joins a track only when the track's predicted motion explains its Doppler to
+    /// within this (median over its pixels) [m/s].
+    double doppler_tolerance_mps = 0.6;
+    /// Tracks at least this long are vehicles: a second cluster joins one up to the gate from
+    /// its box (its far end may not have been seen yet), and small clusters inside its box whose
+    /// Doppler it does not explain (wheels) take its label without being measured [m].
+    double vehicle_length_m = 3.0;
+    int absorb_max_pixels = 60;  ///< size bound of such a wheel cluster [pixels]
+    /// A cluster is split between two or more tracks when each one's predicted box holds at
+    /// least this share of the pixels that track had last frame (two cars nose to tail at one
+    /// speed make one cluster).
+    double split_min_share = 0.5;
+  } association;
+
+  /// A track's life.
+  struct Lifecycle {
+    int confirm_hits = 3;              ///< hysteresis: updates before a track may carry labels
+    int max_misses = 5;                ///< frames a track survives without a cluster
+    double carry_min_speed_mps = 0.8;  ///< a confirmed track carries "moving" while faster than this [m/s]
+    int release_slow_frames = 3;       ///< ... and stops after this many frames below it
+    double max_gap_s = 0.5;            ///< frames further apart (or going back in time) reset the tracker [s]
+  } lifecycle;
+
+  /// Carrying tracks claim static pixels inside their predicted box that move as they do.
+  struct Claims {
+    double claim_margin_m = 0.25;            ///< the predicted box grows by this when claiming pixels [m]
+    double ground_clearance_m = 0.12;        ///< claimed pixels lie this far above the track's lowest point [m]
+    double doppler_tolerance_mps = 0.25;     ///< claimed pixels' Doppler agrees with the track's motion [m/s]
+  } claims;
+
   /// While the rig stands (the zero-velocity test holds), the tracker keeps per pixel the
   /// farthest range seen since it stopped. A static pixel nearer than anything its 3 x 3
-  /// neighbourhood has seen, by background_margin_m, is something that has come into space the
-  /// beams saw empty; within background_label_m of a carrying track's box (and at its heights)
-  /// it takes that track's label without being measured: walkers crossing the beams in a group,
-  /// whose Doppler is zero whichever way they walk, beside the one whose track claims them.
-  /// Used once the background holds background_min_frames frames (0: never).
-  int background_min_frames = 5;
-  double background_margin_m = 0.3;
-  double background_label_m = 2.0;
+  /// neighbourhood has seen, by margin_m, is something that has come into space the beams saw
+  /// empty; within label_m of a carrying track's box (and at its heights) it takes that track's
+  /// label without being measured: walkers crossing the beams in a group, whose Doppler is zero
+  /// whichever way they walk, beside the one whose track claims them. Used once the background
+  /// holds min_frames frames (0: never).
+  struct Background {
+    int min_frames = 5;
+    double margin_m = 0.3;  ///< [m]
+    double label_m = 2.0;   ///< [m]
+  } background;
+
   /// Growth into the blind band: from a moving object's pixels, static neighbours in the range
   /// image (8-connected, not across a head seam) join it, unmeasured, when they continue its
-  /// surface (range step below max(grow_range_gap_m, grow_range_gap_fraction * range)), lie at
-  /// its heights (from its lowest pixel, plus claim_ground_clearance_m for a small object
-  /// whose feet stand on the ground, to claim_margin_m over its top), within grow_reach_m of
-  /// it, and have the Doppler its motion gives there (claim_doppler_tolerance_mps). An object
-  /// crossing the beams is cut by the band where its Doppler changes sign; the part inside the
-  /// band reads as static, but it is the same surface and moves as the rest does. Each cluster
-  /// grows by its single-scan velocity, each carrying track that found pixels this scan by its
-  /// updated state (from its claimed pixels too). 0: no growth.
-  double grow_reach_m = 3.0;
-  double grow_range_gap_m = 0.5;
-  double grow_range_gap_fraction = 0.01;
-  double max_length_m = 20.0;           ///< box size caps [m]
-  double heading_reset_rad = 0.25;      ///< a heading swing beyond this (not turned by the yaw rate) re-measures the box
-  double max_width_m = 4.0;
-  /// An end of a box axis is cut by the view where an edge pixel lies within view_cut_end_m
-  /// (plus 5 % of the visible extent) of that end and its cut direction (away from the view, in
-  /// the ground plane) has a cosine beyond view_cut_cosine with the axis.
-  double view_cut_cosine = 0.5;
-  double view_cut_end_m = 0.25;
-  double max_gap_s = 0.5;               ///< frames further apart (or going back in time) reset the tracker
-  /// The ego twist of the previous frame bounds the next one's (TwistPrior): by acceleration
-  /// times the frame gap, plus a margin.
-  double ego_accel_mps2 = 8.0;
-  double ego_velocity_margin_mps = 0.3;
-  double ego_yaw_accel_rps2 = 2.0;
-  double ego_yaw_rate_margin_rps = 0.1;
+  /// surface (range step below max(range_gap_m, range_gap_fraction * range)), lie at its heights
+  /// (from its lowest pixel, plus claims.ground_clearance_m for a small object whose feet stand
+  /// on the ground, to claims.claim_margin_m over its top), within reach_m of it, and have the
+  /// Doppler its motion gives there (claims.doppler_tolerance_mps). An object crossing the beams
+  /// is cut by the band where its Doppler changes sign; the part inside the band reads as
+  /// static, but it is the same surface and moves as the rest does. Each cluster grows by its
+  /// single-scan velocity, each carrying track that found pixels this scan by its updated state
+  /// (from its claimed pixels too). reach_m = 0: no growth.
+  struct Growth {
+    double reach_m = 3.0;             ///< [m]
+    double range_gap_m = 0.5;         ///< [m]
+    double range_gap_fraction = 0.01;
+  } growth;
 
+  /// The track's box.
+  struct Box {
+    double max_length_m = 20.0;       ///< size caps [m]
+    double max_width_m = 4.0;
+    double heading_reset_rad = 0.25;  ///< a heading swing beyond this (not turned by the yaw rate) re-measures the box [rad]
+    /// An end of a box axis is cut by the view where an edge pixel lies within view_cut_end_m
+    /// (plus 5 % of the visible extent) of that end and its cut direction (away from the view,
+    /// in the ground plane) has a cosine beyond view_cut_cosine with the axis.
+    double view_cut_cosine = 0.5;
+    double view_cut_end_m = 0.25;     ///< [m]
+  } box;
+
+  /// Throws std::invalid_argument naming the field that failed (tracking.<stage>.<field>).
   void validate() const;
 };
 
@@ -151,20 +183,47 @@ struct Track {
   double yaw_rate() const { return x(4); }
   /// A walker, or a box under small_object_m on both axes: see TrackerParams::small_object_m.
   bool small(const TrackerParams& p) const {
-    return walker || std::max(length_m, width_m) < p.small_object_m;
+    return walker || std::max(length_m, width_m) < p.small.small_object_m;
   }
   /// At least vehicle_length_m long: see TrackerParams::vehicle_length_m.
-  bool vehicle(const TrackerParams& p) const { return length_m >= p.vehicle_length_m; }
+  bool vehicle(const TrackerParams& p) const { return length_m >= p.association.vehicle_length_m; }
   /// Confirmed, recently seen and moving: its pixels stay "moving" inside the blind band.
   bool carries(const TrackerParams& p) const {
-    return confirmed && slow_frames < p.release_slow_frames && misses <= p.max_misses;
+    return confirmed && slow_frames < p.lifecycle.release_slow_frames && misses <= p.lifecycle.max_misses;
   }
 };
+
+/// What the tracker knows of the static world while the rig stands: per pixel the farthest
+/// range seen since the rig stopped (infinite where a beam returned nothing), and over how many
+/// frames (TrackerParams::Background).
+class BackgroundModel {
+ public:
+  void reset();
+  /// At the start of a frame: starts again when the rig moves or the scan's shape changes.
+  void begin_frame(const Scan& scan, bool standing);
+  /// The background holds enough frames to be used.
+  bool ready(const TrackerParams::Background& p) const { return p.min_frames > 0 && frames_ >= p.min_frames; }
+  /// Pixel i is nearer, by margin_m, than the farthest range its 3 x 3 neighbourhood has seen:
+  /// something has come into space the beams saw empty. The neighbourhood's least such range
+  /// keeps the edge of a static body (its pixels see it in one frame and what lies behind in
+  /// the next) out of it.
+  bool foreground(const Scan& scan, std::size_t i, double margin_m) const;
+  /// At the end of a frame in which the rig stands: the scan joins the background.
+  void add(const Scan& scan);
+  int frames() const { return frames_; }
+
+ private:
+  std::vector<float> range_m_;
+  int frames_ = 0;
+};
+
+struct ScanBeams;  // internal to core: the scan's unit beam directions
 
 /// A Kalman filter per object with a constant-turn-rate model. Each update uses every Doppler
 /// row of the object's pixels directly, v_i = e_i . (v + omega z x (o_i - c)) (the rotation
 /// term reduces to the beam origin o_i, since e_i is parallel to p_i - o_i), and the centre of
 /// its box. Frames must come in time order; the tracker resets on a gap or a step back.
+/// The stages live in core/src/tracking/ (docs/ARCHITECTURE.md).
 class ObjectTracker {
  public:
   explicit ObjectTracker(const TrackerParams& params = {});
@@ -176,11 +235,17 @@ class ObjectTracker {
   /// new one), clusters of one track are merged, and each tracked cluster's velocity becomes
   /// the track's velocity at its centre (rig axes). The estimate must come from `scan`.
   void update(const Scan& scan, MotionEstimate& estimate);
+  /// The same with the scan's beams already computed (the pipeline's path).
+  void update(const Scan& scan, const ScanBeams& beams, MotionEstimate& estimate);
 
   const std::vector<Track>& tracks() const { return tracks_; }
   const TrackerParams& params() const { return params_; }
 
  private:
+  /// Dead reckoning of the rig by the mean of two frames' twists, and prediction of every
+  /// track to this frame; resets on a gap. Returns false when the estimate has no ego.
+  bool advance(const Scan& scan, const MotionEstimate& est);
+
   TrackerParams params_;
   std::vector<Track> tracks_;
   std::int32_t next_id_ = 1;
@@ -190,10 +255,7 @@ class ObjectTracker {
   Eigen::Vector2d position_ = Eigen::Vector2d::Zero();     ///< rig origin in the tracker's world
   Eigen::Vector3d last_ego_velocity_ = Eigen::Vector3d::Zero();
   double last_ego_yaw_rate_ = 0.0;
-  /// Per pixel, the farthest range seen since the rig stopped (infinite where a beam returned
-  /// nothing), and over how many frames.
-  std::vector<float> background_range_m_;
-  int background_frames_ = 0;
+  BackgroundModel background_;
 };
 
 }  // namespace fmcw::core

@@ -1,0 +1,205 @@
+// The robust methods (robust, tracked): the ego twist first, moving = the points it does not
+// explain, instances by range and Doppler continuity, each instance's velocity in closed form.
+
+#include <cmath>
+
+#include "fmcw/core/median.hpp"
+#include "fmcw/core/motion_pipeline.hpp"
+#include "fmcw/core/random.hpp"
+#include "ego_twist_beams.hpp"
+#include "label_renumbering.hpp"
+#include "pipeline_internal.hpp"
+#include "pipeline_workspace.hpp"
+
+namespace fmcw::core {
+
+namespace {
+
+// Small instances that touch a larger one whose rigid motion explains their Doppler join it.
+// rows[l - 1] holds instance l's rows (targets already ego-compensated). Returns whether any
+// instance was merged; labels are updated in place (numbering may have gaps).
+bool merge_fragments(const Scan& scan, const std::vector<VelocityRows>& rows, const std::vector<VelocityEstimate>& velocity,
+                     const InstanceParams& params, std::vector<std::int32_t>& labels) {
+  const int k = static_cast<int>(rows.size());
+  std::vector<std::int32_t> target(static_cast<std::size_t>(k) + 1, 0);
+  const std::vector<int> group_of = scan.column_group_of();
+  // The largest instance touching each small one.
+  for (int r = 0; r < scan.rows; ++r) {
+    for (int c = 0; c < scan.cols; ++c) {
+      const std::int32_t l = labels[scan.index(r, c)];
+      if (l <= 0 || static_cast<int>(rows[static_cast<std::size_t>(l - 1)].size()) >= params.fragment_pixels) continue;
+      for_each_neighbour(scan, group_of, r, c, [&](std::size_t n, int, int) {
+        const std::int32_t m = labels[n];
+        if (m <= 0 || m == l || rows[static_cast<std::size_t>(m - 1)].size() <= rows[static_cast<std::size_t>(l - 1)].size()) return;
+        std::int32_t& t = target[static_cast<std::size_t>(l)];
+        if (t == 0 || rows[static_cast<std::size_t>(m - 1)].size() > rows[static_cast<std::size_t>(t - 1)].size()) t = m;
+      });
+    }
+  }
+  bool merged = false;
+  std::vector<double> residual;
+  for (int l = 1; l <= k; ++l) {
+    const std::int32_t t = target[static_cast<std::size_t>(l)];
+    if (t == 0 || !velocity[static_cast<std::size_t>(t - 1)].valid) continue;
+    const VelocityRows& rw = rows[static_cast<std::size_t>(l - 1)];
+    const Eigen::Vector3d& v = velocity[static_cast<std::size_t>(t - 1)].velocity_mps;
+    residual.clear();
+    for (std::size_t q = 0; q < rw.size(); ++q) residual.push_back(std::abs(rw.targets_mps[q] - rw.directions[q].dot(v)));
+    if (upper_median(residual) >= params.fragment_residual_mps) continue;
+    target[static_cast<std::size_t>(l)] = -t;  // merge l into t
+    merged = true;
+  }
+  if (!merged) return false;
+  for (auto& lab : labels) {
+    if (lab > 0 && target[static_cast<std::size_t>(lab)] < 0) lab = -target[static_cast<std::size_t>(lab)];
+  }
+  return true;
+}
+
+
+
+// Per pixel: 1 where the Doppler, compensated by the velocity of its head's origin, exceeds
+// moving_sigma standard deviations (sensor noise and the twist's uncertainty along the beam).
+std::vector<std::uint8_t> moving_mask(const Scan& scan, const ScanBeams& beams, const std::vector<Eigen::Vector3d>& head_velocity,
+                                      const EgoTwistEstimate& twist, const MotionPipelineParams& params) {
+  std::vector<std::uint8_t> moving(scan.size(), 0);
+  if (!twist.valid) return moving;
+  const Eigen::Matrix3d cov = twist.velocity.covariance.allFinite() ? twist.velocity.covariance : Eigen::Matrix3d::Zero();
+  const double sigma2 = params.ego.noise_sigma_mps * params.ego.noise_sigma_mps;
+  for (int r = 0; r < scan.rows; ++r) {
+    for (int c = 0; c < scan.cols; ++c) {
+      const std::size_t i = scan.index(r, c);
+      if (!scan.valid[i]) continue;
+      const Eigen::Vector3d& e = beams.e[i];
+      const double residual = scan.radial_velocity_mps[i] + e.dot(head_velocity[static_cast<std::size_t>(c)]);
+      const double var = sigma2 + e.dot(cov * e);
+      moving[i] = residual * residual > params.moving_sigma * params.moving_sigma * var ? 1 : 0;
+    }
+  }
+  return moving;
+}
+
+// Rows (ego-compensated), centroid sums and, with an ego, velocities of the k instances.
+struct Instances {
+  std::vector<VelocityRows> rows;
+  std::vector<Eigen::Vector3d> centroid;
+  std::vector<VelocityEstimate> velocity;
+};
+
+void solve_all(const Scan& scan, const ScanBeams& beams, const std::vector<Eigen::Vector3d>& head_velocity, bool with_ego,
+               int k, const MotionPipelineParams& params, const std::vector<std::int32_t>& labels, Instances& in) {
+  in.rows.assign(static_cast<std::size_t>(k), VelocityRows{});
+  in.centroid.assign(static_cast<std::size_t>(k), Eigen::Vector3d::Zero());
+  in.velocity.assign(static_cast<std::size_t>(k), VelocityEstimate{});
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    const std::int32_t l = labels[i];
+    if (l <= 0) continue;
+    const Eigen::Vector3d& e = beams.e[i];
+    VelocityRows& rw = in.rows[static_cast<std::size_t>(l - 1)];
+    rw.directions.push_back(e);
+    rw.targets_mps.push_back(scan.radial_velocity_mps[i] + e.dot(head_velocity[i % beams.cols]));
+    in.centroid[static_cast<std::size_t>(l - 1)] += scan.position(i);
+  }
+  if (!with_ego) return;
+  for (int c = 0; c < k; ++c) {
+    const VelocityRows& rw = in.rows[static_cast<std::size_t>(c)];
+    in.velocity[static_cast<std::size_t>(c)] = params.planar_objects
+                                                   ? solve_velocity_planar_robust(rw, params.ego.noise_sigma_mps)
+                                                   : solve_velocity_closed_form(rw, params.velocity.qr_condition_threshold);
+  }
+}
+
+// Every instance's velocity; small fragments that a larger neighbour's motion explains are
+// merged into it first (labels renumbered by first pixel).
+std::vector<ClusterEstimate> solve_instances(const Scan& scan, const ScanBeams& beams, const std::vector<Eigen::Vector3d>& head_velocity,
+                                             bool with_ego, int k, const MotionPipelineParams& params,
+                                             std::vector<std::int32_t>& labels) {
+  Instances in;
+  solve_all(scan, beams, head_velocity, with_ego, k, params, labels, in);
+  if (with_ego && k > 1 && merge_fragments(scan, in.rows, in.velocity, params.instances, labels)) {
+    const std::vector<std::int32_t>& old = labels;
+    k = static_cast<int>(renumber_by_first_pixel(labels, static_cast<std::size_t>(k) + 1,
+                                                 [&](std::size_t i) { return old[i] > 0 ? old[i] : -1; })
+                             .size()) -
+        1;
+    solve_all(scan, beams, head_velocity, with_ego, k, params, labels, in);
+  }
+  std::vector<ClusterEstimate> clusters(static_cast<std::size_t>(k));
+  for (int c = 0; c < k; ++c) {
+    ClusterEstimate& cluster = clusters[static_cast<std::size_t>(c)];
+    cluster.id = c + 1;
+    cluster.num_pixels = static_cast<int>(in.rows[static_cast<std::size_t>(c)].size());
+    cluster.centroid_m = in.centroid[static_cast<std::size_t>(c)] / static_cast<double>(cluster.num_pixels);
+    cluster.velocity = in.velocity[static_cast<std::size_t>(c)];
+  }
+  return clusters;
+}
+
+}  // namespace
+
+MotionEstimate MotionPipeline::process_robust(const Scan& scan, std::uint64_t frame_index) {
+  scan.validate();
+  const auto t_start = Clock::now();
+  MotionEstimate out = estimate_of(scan, params_.method);
+  if (scan.num_valid() == 0) {
+    out.labels.assign(scan.size(), Segmentation::kInvalid);
+    out.status = MotionStatus::kNoValidPoints;
+    out.message = "scan has no valid pixels";
+    out.timing.total_ms = ms_since(t_start);
+    return out;
+  }
+  const std::uint64_t frame_seed = mix_seed(params_.seed, frame_index);
+  // With tracking, the previous frame's twist bounds this one's (the rig's acceleration).
+  TwistPrior prior;
+  const double dt = scan.stamp_s - last_twist_stamp_s_;
+  const bool use_prior = params_.track_objects && has_last_twist_ && dt > 0.0 && dt <= params_.tracking.lifecycle.max_gap_s;
+  if (use_prior) {
+    prior.velocity_mps = last_twist_velocity_;
+    prior.yaw_rate_rps = last_twist_yaw_rate_;
+    prior.max_velocity_change_mps = params_.ego_prior.accel_mps2 * dt + params_.ego_prior.velocity_margin_mps;
+    prior.max_yaw_rate_change_rps = params_.ego_prior.yaw_accel_rps2 * dt + params_.ego_prior.yaw_rate_margin_rps;
+  }
+  PipelineWorkspace& ws = buffers_.get();
+  ws.beams.assign(scan);
+  const ScanBeams& beams = ws.beams;
+  EgoTwistEstimate twist = estimate_ego_twist(scan, beams, params_.ego, frame_seed, use_prior ? &prior : nullptr, ws.ego);
+  const std::size_t num_valid = scan.num_valid();
+  const int world_points = twist.inliers;
+  const bool no_world = twist.valid && world_points < params_.min_static_fraction * static_cast<double>(num_valid);
+  if (no_world) twist = EgoTwistEstimate{};
+  has_last_twist_ = twist.valid;
+  last_twist_stamp_s_ = scan.stamp_s;
+  last_twist_velocity_ = twist.velocity.velocity_mps;
+  last_twist_yaw_rate_ = twist.angular_velocity_rps.z();
+  out.ego = twist.velocity;
+  out.ego_angular_velocity_rps = twist.angular_velocity_rps;
+  out.ego_yaw_rate_estimated = twist.yaw_rate_estimated;
+  out.ego_standing = twist.standing;
+  out.timing.ego_ms = ms_since(t_start);
+
+  // Moving: Doppler the ego twist does not explain, beyond noise and the twist's uncertainty.
+  const auto t_cluster = Clock::now();
+  std::vector<Eigen::Vector3d> head_velocity(static_cast<std::size_t>(scan.cols));
+  for (int c = 0; c < scan.cols; ++c) head_velocity[static_cast<std::size_t>(c)] = twist.velocity_at(beams.origin[static_cast<std::size_t>(c)]);
+  const std::vector<std::uint8_t> moving = moving_mask(scan, beams, head_velocity, twist, params_);
+  Segmentation seg = label_moving_instances(scan, moving, params_.instances);
+  out.labels = std::move(seg.labels);
+  out.num_static_pixels = static_cast<int>(seg.static_pixels);
+  out.timing.clustering_ms = ms_since(t_cluster);
+
+  // Each instance's velocity (Eq. 22 with each head's own origin velocity V + omega x r).
+  const auto t_obj = Clock::now();
+  out.clusters = solve_instances(scan, beams, head_velocity, twist.valid, seg.num_clusters(), params_, out.labels);
+  out.timing.objects_ms = ms_since(t_obj);
+  if (no_world) {
+    out.status = MotionStatus::kTooFewStaticPoints;
+    out.message = no_static_world_message(world_points, num_valid, params_.min_static_fraction);
+  } else if (!twist.valid) {
+    out.status = MotionStatus::kTooFewStaticPoints;
+    out.message = concat("ego velocity not estimable: ", twist.inliers, " points consistent with a static world");
+  }
+  out.timing.total_ms = ms_since(t_start);
+  return out;
+}
+
+}  // namespace fmcw::core

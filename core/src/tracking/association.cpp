@@ -1,0 +1,220 @@
+#include "association.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "fmcw/core/median.hpp"
+
+namespace fmcw::core::tracking {
+
+std::vector<std::vector<std::uint32_t>> pixels_of_clusters(const MotionEstimate& est) {
+  std::vector<std::vector<std::uint32_t>> cluster_pixels(est.clusters.size());
+  for (std::size_t i = 0; i < est.labels.size(); ++i) {
+    const std::int32_t l = est.labels[i];
+    if (l >= 1) cluster_pixels[static_cast<std::size_t>(l - 1)].push_back(static_cast<std::uint32_t>(i));
+  }
+  return cluster_pixels;
+}
+
+namespace {
+
+// The tracks (of `near`) whose boxes hold a share of the cluster's pixels q: per pixel its
+// holder (-1: none), and the sharers.
+std::vector<std::size_t> sharers_of(const std::vector<Eigen::Vector2d>& q, const std::vector<std::size_t>& near,
+                                    const std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p,
+                                    std::vector<int>& holder) {
+  holder.assign(q.size(), -1);
+  std::vector<int> held(tracks.size(), 0);
+  for (std::size_t n = 0; n < q.size(); ++n) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const std::size_t t : near) {
+      if (!boxes[t].contains(q[n], p.claims.claim_margin_m)) continue;
+      const double d = (q[n] - boxes[t].centre).norm();
+      if (d < best) {
+        best = d;
+        holder[n] = static_cast<int>(t);
+      }
+    }
+    if (holder[n] >= 0) ++held[static_cast<std::size_t>(holder[n])];
+  }
+  std::vector<std::size_t> sharers;
+  for (const std::size_t t : near) {
+    const double need = std::max(static_cast<double>(p.association.min_cluster_pixels),
+                                 p.association.split_min_share * static_cast<double>(tracks[t].last_pixels));
+    if (held[t] >= need) sharers.push_back(t);
+  }
+  return sharers;
+}
+
+// Splits cluster c's pixels between the sharers: the first part keeps the label.
+void split_cluster(const Frame& frame, MotionEstimate& est, std::vector<std::vector<std::uint32_t>>& cluster_pixels,
+                   std::size_t c, const std::vector<Eigen::Vector2d>& q, const std::vector<int>& holder,
+                   const std::vector<std::size_t>& sharers, const std::vector<Box>& boxes) {
+  const std::vector<std::uint32_t>& px = cluster_pixels[c];
+  std::vector<std::vector<std::uint32_t>> parts(sharers.size());
+  for (std::size_t n = 0; n < px.size(); ++n) {
+    std::size_t part = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t s = 0; s < sharers.size(); ++s) {
+      const double d = static_cast<int>(sharers[s]) == holder[n] ? -1.0 : boxes[sharers[s]].distance(q[n]);
+      if (d < best) {
+        best = d;
+        part = s;
+      }
+    }
+    parts[part].push_back(px[n]);
+  }
+  const ClusterEstimate whole = est.clusters[c];
+  for (std::size_t s = 0; s < parts.size(); ++s) {
+    if (parts[s].empty()) continue;
+    const bool first = s == 0;
+    const std::size_t slot = first ? c : est.clusters.size();
+    if (!first) {
+      est.clusters.push_back(whole);
+      est.clusters.back().id = static_cast<std::int32_t>(slot + 1);
+      cluster_pixels.emplace_back();
+    }
+    ClusterEstimate& ce = est.clusters[slot];
+    ce.num_pixels = static_cast<int>(parts[s].size());
+    ce.centroid_m = Eigen::Vector3d::Zero();
+    for (const std::uint32_t i : parts[s]) {
+      ce.centroid_m += frame.scan.position(i);
+      est.labels[i] = static_cast<std::int32_t>(slot + 1);
+    }
+    ce.centroid_m /= static_cast<double>(parts[s].size());
+    cluster_pixels[slot] = std::move(parts[s]);
+  }
+}
+
+}  // namespace
+
+void split_shared_clusters(const Frame& frame, MotionEstimate& est, std::vector<std::vector<std::uint32_t>>& cluster_pixels,
+                           const std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p) {
+  std::vector<std::size_t> eligible;
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    if (tracks[t].confirmed && tracks[t].misses == 0) eligible.push_back(t);
+  }
+  if (eligible.size() < 2) return;
+  const std::size_t k0 = est.clusters.size();
+  std::vector<std::size_t> near;
+  std::vector<int> holder;
+  for (std::size_t c = 0; c < k0; ++c) {
+    const std::vector<std::uint32_t>& px = cluster_pixels[c];
+    if (static_cast<int>(px.size()) < 2 * p.association.min_cluster_pixels) continue;
+    std::vector<Eigen::Vector2d> q(px.size());
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector2d hi = -lo;
+    for (std::size_t n = 0; n < px.size(); ++n) {
+      q[n] = frame.world_xy(frame.scan.position(px[n]));
+      lo = lo.cwiseMin(q[n]);
+      hi = hi.cwiseMax(q[n]);
+    }
+    // Only boxes that reach the cluster's extent can hold its pixels.
+    near.clear();
+    for (const std::size_t t : eligible) {
+      const Box& b = boxes[t];
+      const double reach = std::hypot(b.half_l, b.half_w) + p.claims.claim_margin_m;
+      if ((b.centre - (b.centre.cwiseMax(lo).cwiseMin(hi))).norm() <= reach) near.push_back(t);
+    }
+    if (near.size() < 2) continue;
+    const std::vector<std::size_t> sharers = sharers_of(q, near, tracks, boxes, p, holder);
+    if (sharers.size() < 2) continue;
+    split_cluster(frame, est, cluster_pixels, c, q, holder, sharers, boxes);
+  }
+}
+
+double doppler_deviation(const Frame& frame, const std::vector<std::uint32_t>& px, const Track& track) {
+  const std::size_t step = std::max<std::size_t>(1, px.size() / 256);
+  std::vector<double> dev;
+  dev.reserve(px.size() / step + 1);
+  for (std::size_t n = 0; n < px.size(); n += step) {
+    const Row r = frame.row_of(px[n]);
+    dev.push_back(std::abs(r.y - predicted(r, track.x)));
+  }
+  return upper_median(dev);
+}
+
+namespace {
+
+// Per cluster: the track it joins and the one it would be absorbed into.
+void gate_clusters(const Frame& frame, const std::vector<std::vector<std::uint32_t>>& cluster_pixels,
+                   const std::vector<Eigen::Vector2d>& centroid, const std::vector<Track>& tracks,
+                   const std::vector<Box>& boxes, const TrackerParams& p, Association& a) {
+  const TrackerParams::Association& pa = p.association;
+  for (std::size_t c = 0; c < centroid.size(); ++c) {
+    if (static_cast<int>(cluster_pixels[c].size()) < pa.min_cluster_pixels) continue;
+    double best = std::numeric_limits<double>::infinity();
+    double best_absorb = best;
+    for (std::size_t t = 0; t < tracks.size(); ++t) {
+      // The gate widens with the track's position uncertainty: a young track's tangential
+      // velocity is hardly known.
+      const double pos_var = tracks[t].P.topLeftCorner<2, 2>().eigenvalues().real().maxCoeff();
+      const double gate = pa.gate_m + 3.0 * std::sqrt(std::max(0.0, pos_var));
+      if (!boxes[t].contains(centroid[c], gate)) continue;
+      // A large cluster beside a small track (a car passing a walker) is nearer the walker's
+      // centre than its own box's: the box distance decides, the centre only breaks ties.
+      const double d = boxes[t].distance(centroid[c]) + 1e-3 * (centroid[c] - boxes[t].centre).norm();
+      if (doppler_deviation(frame, cluster_pixels[c], tracks[t]) <= pa.doppler_tolerance_mps) {
+        if (d < best) {
+          best = d;
+          a.owner[c] = static_cast<int>(t);
+        }
+      } else if (static_cast<int>(cluster_pixels[c].size()) <= pa.absorb_max_pixels && tracks[t].vehicle(p) &&
+                 boxes[t].contains(centroid[c], p.claims.claim_margin_m) && d < best_absorb) {
+        best_absorb = d;
+        a.absorbed[c] = static_cast<int>(t);
+      }
+    }
+    if (a.owner[c] >= 0) a.absorbed[c] = -1;
+  }
+}
+
+}  // namespace
+
+Association associate(const Frame& frame, const std::vector<std::vector<std::uint32_t>>& cluster_pixels,
+                      const MotionEstimate& est, const std::vector<Track>& tracks, const std::vector<Box>& boxes,
+                      const TrackerParams& p, std::vector<Group>& groups) {
+  const std::size_t k = est.clusters.size();
+  std::vector<Eigen::Vector2d> centroid(k);
+  for (std::size_t c = 0; c < k; ++c) centroid[c] = frame.world_xy(est.clusters[c].centroid_m);
+  Association a{std::vector<int>(k, -1), std::vector<int>(k, -1)};
+  gate_clusters(frame, cluster_pixels, centroid, tracks, boxes, p, a);
+  // A track's nearest cluster always joins it; further ones only from inside its box grown by
+  // claim_margin_m (walkers side by side move alike), a vehicle's by the gate (its far end may
+  // not have been seen yet). The others start tracks.
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    std::vector<std::size_t> mine;
+    for (std::size_t c = 0; c < k; ++c) {
+      if (a.owner[c] == static_cast<int>(t)) mine.push_back(c);
+    }
+    std::sort(mine.begin(), mine.end(), [&](std::size_t x, std::size_t y) {
+      const double dx = boxes[t].distance(centroid[x]);
+      const double dy = boxes[t].distance(centroid[y]);
+      return dx != dy ? dx < dy : x < y;
+    });
+    const bool vehicle = tracks[t].vehicle(p);
+    const bool small = tracks[t].small(p);
+    for (std::size_t n = 0; n < mine.size(); ++n) {
+      const std::size_t c = mine[n];
+      // A walker's second cluster is a limb, much smaller than its body, or a piece of it
+      // inside its box; one of comparable size beside the box is the walker next to it.
+      const bool limb = !small || cluster_pixels[c].size() * 3 <= cluster_pixels[mine.front()].size();
+      const double grow = vehicle ? p.association.gate_m : limb ? p.claims.claim_margin_m : 0.0;
+      if (n > 0 && !boxes[t].contains(centroid[c], grow)) {
+        a.owner[c] = -1;
+        continue;
+      }
+      groups[t].clusters.push_back(static_cast<std::int32_t>(c + 1));
+      groups[t].found.insert(groups[t].found.end(), cluster_pixels[c].begin(), cluster_pixels[c].end());
+    }
+  }
+  for (std::size_t c = 0; c < k; ++c) {
+    if (a.owner[c] < 0 && a.absorbed[c] >= 0)
+      groups[static_cast<std::size_t>(a.absorbed[c])].absorbed.push_back(static_cast<std::int32_t>(c + 1));
+  }
+  return a;
+}
+
+}  // namespace fmcw::core::tracking

@@ -1,0 +1,43 @@
+#pragma once
+// Internal to core: association of this frame's clusters to the predicted tracks: gating by the
+// predicted box, the Doppler deviation of a cluster from a track's motion, and the split of a
+// cluster that two tracked objects share.
+
+#include <vector>
+
+#include "fmcw/core/motion_pipeline.hpp"
+#include "track_box.hpp"
+
+namespace fmcw::core::tracking {
+
+/// Pixels of each cluster of the estimate (label l at index l - 1), in pixel order.
+std::vector<std::vector<std::uint32_t>> pixels_of_clusters(const MotionEstimate& est);
+
+/// A cluster that two tracked objects share (two cars nose to tail at one speed touch in the
+/// image and in Doppler) is split between them when each one's predicted box holds a good share
+/// of the pixels it had last time: a pixel goes to the box that holds it (the nearest centre
+/// where boxes overlap), else to the nearest of those boxes. The first part keeps the label, the
+/// others get new ones; each part keeps the cluster's single-scan estimate.
+void split_shared_clusters(const Frame& frame, MotionEstimate& est, std::vector<std::vector<std::uint32_t>>& cluster_pixels,
+                           const std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p);
+
+/// Median |Doppler - the track's prediction| over (at most about 256 of) the pixels.
+double doppler_deviation(const Frame& frame, const std::vector<std::uint32_t>& pixels, const Track& track);
+
+/// Which track each cluster joins (-1: none), and which it is absorbed into (-1: none).
+struct Association {
+  std::vector<int> owner;
+  std::vector<int> absorbed;
+};
+
+/// Each cluster joins the track whose predicted box (grown by the gate, wider for an uncertain
+/// position) holds its centroid, whose predicted motion explains its Doppler, and that lies
+/// nearest to it; a small cluster inside a vehicle's box whose Doppler the track does not
+/// explain (a wheel) is absorbed into its label, unmeasured. A track's nearest cluster always
+/// joins it, further ones only from inside its box (grown by claim_margin_m, a vehicle's by the
+/// gate). Fills each track's group with its clusters and their pixels.
+Association associate(const Frame& frame, const std::vector<std::vector<std::uint32_t>>& cluster_pixels,
+                      const MotionEstimate& est, const std::vector<Track>& tracks, const std::vector<Box>& boxes,
+                      const TrackerParams& p, std::vector<Group>& groups);
+
+}  // namespace fmcw::core::tracking

@@ -1,0 +1,28 @@
+#pragma once
+// Internal to core: the constant-turn-rate filter of a track. State: centre x, y [m], velocity
+// x, y [m/s], yaw rate [rad/s], in the tracker's world.
+
+#include "frame.hpp"
+
+namespace fmcw::core::tracking {
+
+/// Constant turn rate over dt: the centre moves along an arc, the velocity turns by omega dt.
+Vec5 propagate(const Vec5& x, double dt);
+
+/// Propagates the track's state, covariance (Jacobian by central differences, white
+/// acceleration and yaw-acceleration noise) and box axes by dt > 0.
+void predict(Track& t, double dt, const TrackerParams::Motion& p);
+
+/// Information-form update: with the measurements' information and gradient at the current
+/// state, x += (P^-1 + info)^-1 grad, P = (P^-1 + info)^-1; the yaw rate stays within bounds.
+void information_update(Track& t, const Mat5& info, const Vec5& grad, const TrackerParams::Motion& p);
+
+/// The Doppler row's Jacobian with respect to the state at x.
+inline Vec5 row_jacobian(const Row& r, const Vec5& x) {
+  const Eigen::Vector2d d = r.o - x.head<2>();
+  Vec5 h;
+  h << -x(4) * r.e.y(), x(4) * r.e.x(), r.e.x(), r.e.y(), r.e.y() * d.x() - r.e.x() * d.y();
+  return h;
+}
+
+}  // namespace fmcw::core::tracking

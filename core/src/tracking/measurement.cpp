@@ -1,0 +1,144 @@
+#include "measurement.hpp"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+
+#include "ctrv.hpp"
+#include "fmcw/core/median.hpp"
+
+namespace fmcw::core::tracking {
+
+namespace {
+
+// A walker's own pixels: those inside its predicted box, grown by claim_margin_m (the walker
+// beside it may share its cluster).
+Group walker_pixels(const Track& tr, const Group& whole, const Frame& frame, const TrackerParams& p) {
+  Group mine;
+  const Box b = box_of(tr);
+  const auto inside = [&](std::uint32_t i) { return b.contains(frame.world_xy(frame.scan.position(i)), p.claims.claim_margin_m); };
+  for (const std::uint32_t i : whole.found) {
+    if (inside(i)) mine.found.push_back(i);
+  }
+  for (const std::uint32_t i : whole.claimed) {
+    if (inside(i)) mine.claimed.push_back(i);
+  }
+  return mine;
+}
+
+// The Doppler rows of the group's pixels with their residuals against the prediction, and which
+// of them move with the body: within outlier_sigmas robust deviations of the median residual.
+struct DopplerRows {
+  std::vector<Row> rows;
+  double median = 0.0;
+  double cut = 0.0;
+  std::size_t used = 0;
+  bool inlier(const Row& r) const { return std::abs(r.residual - median) <= cut; }
+};
+
+DopplerRows doppler_rows(const Track& tr, const Group& g, const Frame& frame, const TrackerParams::Measurement& p) {
+  DopplerRows d;
+  d.rows.reserve(g.found.size() + g.claimed.size());
+  g.for_each_measured([&](std::uint32_t i) { d.rows.push_back(frame.row_of(i)); });
+  std::vector<double> dev(d.rows.size());
+  for (std::size_t n = 0; n < d.rows.size(); ++n) {
+    d.rows[n].residual = d.rows[n].y - predicted(d.rows[n], tr.x);
+    dev[n] = d.rows[n].residual;
+  }
+  d.median = upper_median(dev);
+  for (double& v : dev) v = std::abs(v - d.median);
+  d.cut = std::max(p.outlier_floor_mps, p.outlier_sigmas * 1.4826 * upper_median(dev));
+  for (const Row& r : d.rows) d.used += d.inlier(r) ? 1 : 0;
+  return d;
+}
+
+// Information and gradient of the Doppler rows. A small object: one row, the mean of the inlier
+// rows, its noise the rows' spread over the square root of their effective count, floored (the
+// gait phase moves the mean). Otherwise every inlier row, weighted as at most
+// max_effective_rows independent ones.
+void doppler_information(const DopplerRows& d, const Vec5& x, bool small, const TrackerParams& p, Mat5& info, Vec5& grad) {
+  const TrackerParams::Measurement& pm = p.measurement;
+  if (small) {
+    Vec5 h_mean = Vec5::Zero();
+    double res_mean = 0.0;
+    for (const Row& r : d.rows) {
+      if (!d.inlier(r)) continue;
+      h_mean += row_jacobian(r, x);
+      res_mean += r.residual;
+    }
+    if (d.used == 0) return;
+    h_mean /= static_cast<double>(d.used);
+    res_mean /= static_cast<double>(d.used);
+    const double spread = std::max(pm.doppler_sigma_mps, d.cut / pm.outlier_sigmas);
+    const double n_eff = static_cast<double>(std::min<std::size_t>(d.used, static_cast<std::size_t>(pm.max_effective_rows)));
+    const double sigma = std::max(p.small.doppler_floor_mps, spread / std::sqrt(n_eff));
+    info = h_mean * h_mean.transpose() / (sigma * sigma);
+    grad = h_mean * res_mean / (sigma * sigma);
+    return;
+  }
+  const double sensor_w = 1.0 / (pm.doppler_sigma_mps * pm.doppler_sigma_mps);
+  const double w = sensor_w * std::min(1.0, static_cast<double>(pm.max_effective_rows) /
+                                                 static_cast<double>(std::max<std::size_t>(d.used, 1)));
+  for (const Row& r : d.rows) {
+    if (!d.inlier(r)) continue;
+    const Vec5 h = row_jacobian(r, x);
+    info.noalias() += w * h * h.transpose();
+    grad += w * h * r.residual;
+  }
+}
+
+}  // namespace
+
+void measure(Track& tr, const Group& whole, bool born, const Frame& frame, const ViewEdges& edges, const TrackerParams& p) {
+  Group mine;
+  if (tr.walker && !born) mine = walker_pixels(tr, whole, frame, p);
+  const Group& g = mine.empty() ? whole : mine;
+  const BoxMeasurement box = measure_box(tr, g, born, frame, edges, p);
+  if (born) {
+    tr.x.head<2>() = box.centre;
+    return;
+  }
+  const DopplerRows d = doppler_rows(tr, g, frame, p.measurement);
+  const bool small = tr.small(p);  // the box may just have been measured
+  Mat5 info = Mat5::Zero();
+  Vec5 grad = Vec5::Zero();
+  doppler_information(d, tr.x, small, p, info, grad);
+  // The box centre, Huber-weighted beyond 3 standard deviations of the innovation.
+  const Eigen::Vector2d innovation = box.seen ? Eigen::Vector2d(box.centre - tr.x.head<2>()) : Eigen::Vector2d::Zero();
+  const double pos_sigma = box.centre_from_claims ? p.measurement.claim_position_sigma_m
+                           : small                ? p.small.position_sigma_m
+                                                  : p.measurement.position_sigma_m;
+  const double pos_w_here = 1.0 / (pos_sigma * pos_sigma);
+  const Eigen::Matrix2d S = tr.P.topLeftCorner<2, 2>() + Eigen::Matrix2d::Identity() / pos_w_here;
+  const double mahalanobis = std::sqrt(innovation.dot(S.inverse() * innovation));
+  const double pw = box.seen ? pos_w_here * std::min(1.0, 3.0 / std::max(mahalanobis, 1e-12)) : 0.0;
+  info.topLeftCorner<2, 2>() += pw * Eigen::Matrix2d::Identity();
+  grad.head<2>() += pw * innovation;
+  information_update(tr, info, grad, p.motion);
+}
+
+void update_track_state(Track& tr, const Group& g, const TrackerParams& p) {
+  if (g.empty()) {
+    ++tr.misses;
+  } else {
+    ++tr.hits;
+    tr.last_pixels = static_cast<int>(g.found.size());
+    tr.misses = 0;
+  }
+  if (tr.hits >= p.lifecycle.confirm_hits) tr.confirmed = true;
+  if (!g.empty()) tr.small_hits = std::max(tr.length_m, tr.width_m) < p.small.small_object_m ? tr.small_hits + 1 : 0;
+  const bool slow = tr.velocity().norm() < p.small.walker_max_speed_mps;
+  tr.walker = slow && (tr.walker || (p.small.walker_hits > 0 && tr.small_hits >= p.small.walker_hits));
+  tr.slow_frames = tr.velocity().norm() < p.lifecycle.carry_min_speed_mps ? tr.slow_frames + 1 : 0;
+  // Turning once the yaw rate is resolved on a track of some age; still turning while it stays
+  // above the minimum and turn_release_significance standard deviations (the box centre of a
+  // near car jumps as its visible side changes, the position updates are then down-weighted and
+  // the yaw rate's variance grows for a while, not its value).
+  const TrackerParams::Turning& pt = p.turning;
+  const double w = std::abs(tr.yaw_rate());
+  const double w_sigma = std::sqrt(std::max(0.0, tr.P(4, 4)));
+  tr.turning = w >= pt.min_turn_rate_rps && (tr.turning ? w >= pt.turn_release_significance * w_sigma
+                                                        : tr.hits >= pt.min_turn_hits && w >= pt.turn_significance * w_sigma);
+}
+
+}  // namespace fmcw::core::tracking

@@ -1,0 +1,19 @@
+#pragma once
+// Internal to core: the measurement update of a track with its pixels of this frame, and the
+// bookkeeping after it (hits, misses, walker, turning).
+
+#include "track_box.hpp"
+
+namespace fmcw::core::tracking {
+
+/// Measures the box (measure_box) and, unless the track is just born (its velocity prior then
+/// holds this frame's Doppler), updates the filter with the Doppler rows of its pixels (without
+/// those that do not move with the body) and the box centre (Huber-weighted beyond 3 standard
+/// deviations of the innovation: the centre jumps when occlusion changes what is visible).
+/// A walker is measured on its own pixels: those inside its predicted box.
+void measure(Track& tr, const Group& whole, bool born, const Frame& frame, const ViewEdges& edges, const TrackerParams& p);
+
+/// After the frame's updates: hits or misses, confirmation, walker and turning state.
+void update_track_state(Track& tr, const Group& g, const TrackerParams& p);
+
+}  // namespace fmcw::core::tracking

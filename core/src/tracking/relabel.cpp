@@ -1,0 +1,116 @@
+#include "relabel.hpp"
+
+#include <limits>
+
+#include "../label_renumbering.hpp"
+
+namespace fmcw::core::tracking {
+
+std::vector<std::int32_t> group_of_labels(const std::vector<Group>& groups, std::size_t k) {
+  std::vector<std::int32_t> group_of_label(k + 1, -1);
+  for (std::size_t t = 0; t < groups.size(); ++t) {
+    for (const std::int32_t l : groups[t].clusters) group_of_label[static_cast<std::size_t>(l)] = static_cast<std::int32_t>(t);
+    for (const std::int32_t l : groups[t].absorbed) group_of_label[static_cast<std::size_t>(l)] = static_cast<std::int32_t>(t);
+  }
+  return group_of_label;
+}
+
+namespace {
+
+// The track's velocity at its centre, as reported (rig axes). The yaw rate is seen only through
+// the track's path (a rigid body turning about a fixed point has a time-invariant Doppler
+// field), and each rad/s of it moves the centre's velocity by |o - c| m/s. Unless the turn is
+// resolved, report the velocity the Doppler measures, v + omega z x (o - c), with no turn. A
+// small object's Doppler pins only its radial velocity, the same for v and for
+// v + omega z x (o - c): the track's own velocity is the better guess either way.
+void report_track(const Frame& frame, const Track& tr, const Group& g, const MotionEstimate& est, const TrackerParams& p,
+                  ClusterEstimate& ce) {
+  const Eigen::Matrix2d Rt = frame.R.transpose();
+  const VelocityEstimate scan_estimate =
+      g.clusters.empty() ? VelocityEstimate{} : est.clusters[static_cast<std::size_t>(g.clusters.front() - 1)].velocity;
+  ce.scan_velocity_mps = g.clusters.empty() ? Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())
+                                            : scan_estimate.velocity_mps;
+  ce.track_id = tr.id;
+  ce.track_hits = tr.hits;
+  ce.carried_pixels = static_cast<int>(g.claimed.size() + g.labelled.size());
+  ce.yaw_rate_rps = tr.yaw_rate();
+  ce.centre_m = Eigen::Vector3d::Zero();
+  ce.centre_m.head<2>() = Rt * (tr.centre() - frame.position);
+  ce.centre_m.z() = 0.5 * (tr.z_min_m + tr.z_max_m);
+  VelocityEstimate& v = ce.velocity;
+  v = scan_estimate;
+  const Eigen::Vector2d d = mean_origin(frame, g) - tr.centre();
+  Eigen::Matrix<double, 2, 3> J;
+  J << 1.0, 0.0, -d.y(), 0.0, 1.0, d.x();
+  Eigen::Vector2d vel = tr.velocity();
+  Eigen::Matrix2d cov = tr.P.block<2, 2>(2, 2);
+  if (!tr.turning && tr.small(p)) {
+    ce.yaw_rate_rps = 0.0;
+  } else if (!tr.turning) {
+    vel = J * tr.x.segment<3>(2);
+    cov = J * tr.P.block<3, 3>(2, 2) * J.transpose();
+    ce.yaw_rate_rps = 0.0;
+  }
+  v.velocity_mps = Eigen::Vector3d::Zero();
+  v.velocity_mps.head<2>() = Rt * vel;
+  v.covariance = Eigen::Matrix3d::Zero();
+  v.covariance.topLeftCorner<2, 2>() = Rt * cov * frame.R;
+  v.num_points = ce.num_pixels;
+  v.valid = true;
+}
+
+}  // namespace
+
+void relabel_estimate(const Frame& frame, const std::vector<Track>& tracks, const std::vector<Group>& groups,
+                      const std::vector<std::int32_t>& group_of_label,
+                      const std::vector<std::pair<std::uint32_t, std::size_t>>& grown_untracked, const TrackerParams& p,
+                      MotionEstimate& est) {
+  const std::size_t n_groups = groups.size();
+  // Static pixels that join an object: key of their object (group t -> t, untracked cluster c
+  // -> n_groups + c).
+  std::vector<std::int32_t> claimed_by(est.labels.size(), -1);
+  for (const auto& [i, c] : grown_untracked) claimed_by[i] = static_cast<std::int32_t>(n_groups + c);
+  for (std::size_t t = 0; t < n_groups; ++t) {
+    for (const std::uint32_t i : groups[t].labelled) claimed_by[i] = static_cast<std::int32_t>(t);
+    for (const std::uint32_t i : groups[t].claimed) claimed_by[i] = static_cast<std::int32_t>(t);
+  }
+  // Key of a pixel's new object: group t -> t, untracked old label l -> n_groups + l - 1.
+  int moved_to_moving = 0;
+  const std::vector<std::int32_t> key_of_new =
+      renumber_by_first_pixel(est.labels, n_groups + est.clusters.size(), [&](std::size_t i) -> std::int32_t {
+        const std::int32_t l = est.labels[i];
+        if (l >= 1) {
+          const std::int32_t g = group_of_label[static_cast<std::size_t>(l)];
+          return g >= 0 ? g : static_cast<std::int32_t>(n_groups) + l - 1;
+        }
+        if (claimed_by[i] >= 0) ++moved_to_moving;
+        return claimed_by[i];
+      });
+  est.num_static_pixels -= moved_to_moving;
+  const auto next = static_cast<std::int32_t>(key_of_new.size()) - 1;
+  std::vector<ClusterEstimate> out(static_cast<std::size_t>(next));
+  std::vector<int> count(static_cast<std::size_t>(next), 0);
+  for (std::size_t i = 0; i < est.labels.size(); ++i) {
+    const std::int32_t l = est.labels[i];
+    if (l < 1) continue;
+    out[static_cast<std::size_t>(l - 1)].centroid_m += frame.scan.position(i);
+    ++count[static_cast<std::size_t>(l - 1)];
+  }
+  for (std::int32_t l = 1; l <= next; ++l) {
+    ClusterEstimate& ce = out[static_cast<std::size_t>(l - 1)];
+    const std::int32_t key = key_of_new[static_cast<std::size_t>(l)];
+    ce.id = l;
+    ce.num_pixels = count[static_cast<std::size_t>(l - 1)];
+    ce.centroid_m /= static_cast<double>(ce.num_pixels);
+    if (key >= static_cast<std::int32_t>(n_groups)) {  // untracked: as the single scan saw it
+      const ClusterEstimate& old = est.clusters[static_cast<std::size_t>(key) - n_groups];
+      ce.velocity = old.velocity;
+      ce.scan_velocity_mps = old.velocity.velocity_mps;
+      continue;
+    }
+    report_track(frame, tracks[static_cast<std::size_t>(key)], groups[static_cast<std::size_t>(key)], est, p, ce);
+  }
+  est.clusters = std::move(out);
+}
+
+}  // namespace fmcw::core::tracking

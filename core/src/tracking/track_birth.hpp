@@ -1,0 +1,18 @@
+#pragma once
+// Internal to core: a new track from a cluster no track took, with its priors.
+
+#include "fmcw/core/motion_pipeline.hpp"
+#include "track_box.hpp"
+
+namespace fmcw::core::tracking {
+
+/// The track a cluster starts (its group holds the cluster's pixels): velocity from the
+/// single-scan estimate, box placed on the pixels, and priors that say what one scan leaves
+/// open. One scan measures v_app = v + omega z x (o - c): velocity and yaw rate are known only
+/// along that line, so omega ~ N(0, s0^2) and v = v_app - omega z x (o - c) are correlated from
+/// the start, and later positions move the estimate along the line instead of fighting the
+/// Doppler. A small object's tangential velocity is not trusted at all.
+Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, const Frame& frame, const ViewEdges& edges,
+                  const TrackerParams& p);
+
+}  // namespace fmcw::core::tracking

@@ -1,0 +1,182 @@
+#include "track_box.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "fmcw/core/median.hpp"
+
+namespace fmcw::core::tracking {
+
+double Box::distance(const Eigen::Vector2d& q) const {
+  const Eigen::Vector2d d = q - centre;
+  const double a = std::max(0.0, std::abs(d.dot(u)) - half_l);
+  const double b = std::max(0.0, std::abs(-d.x() * u.y() + d.y() * u.x()) - half_w);
+  return std::hypot(a, b);
+}
+
+Box box_of(const Track& t) {
+  Box b;
+  b.centre = t.centre();
+  b.u = Eigen::Vector2d(std::cos(t.heading_rad), std::sin(t.heading_rad));
+  b.half_l = 0.5 * std::max(t.length_m, 0.4);
+  b.half_w = 0.5 * std::max(t.width_m, 0.4);
+  return b;
+}
+
+ViewEdges::ViewEdges(const Scan& scan) : edge_head_(static_cast<std::size_t>(scan.cols), -1) {
+  for (std::size_t h = 0; h < scan.heads.size(); ++h) {
+    edge_head_[static_cast<std::size_t>(scan.heads[h].col_begin)] = static_cast<int>(h);
+    edge_head_[static_cast<std::size_t>(scan.heads[h].col_end - 1)] = static_cast<int>(h);
+  }
+}
+
+void ViewEdges::add_cuts(const Frame& frame, std::uint32_t i, const Eigen::Vector2d& at, std::vector<Cut>& cuts) const {
+  const Scan& scan = frame.scan;
+  const int c = static_cast<int>(i % static_cast<std::uint32_t>(scan.cols));
+  const int r = static_cast<int>(i / static_cast<std::uint32_t>(scan.cols));
+  const int head = edge_head_[static_cast<std::size_t>(c)];
+  if (head < 0 && r != 0 && r != scan.rows - 1) return;
+  const Eigen::Vector3d ray = scan.position(i) - frame.beams.origin[static_cast<std::size_t>(c)];
+  const Eigen::Vector2d d = (frame.R * ray.head<2>()).normalized();
+  if (head >= 0) {
+    const Eigen::Vector2d axis = frame.R * scan.heads[static_cast<std::size_t>(head)].T_rig_head.linear().col(0).head<2>();
+    const Eigen::Vector2d n(-d.y(), d.x());
+    cuts.push_back({n.dot(axis) > 0.0 ? Eigen::Vector2d(-n) : n, at});
+  }
+  if (r == scan.rows - 1) cuts.push_back({-d, at});
+  if (r == 0) cuts.push_back({d, at});
+}
+
+namespace {
+
+// The box's heading from the velocity once the object moves. Extents measured along a heading
+// that has since swung, beyond what the yaw rate turned the body (a poor first velocity,
+// corrected over a few frames), say nothing about the box along the new one: returns whether
+// they are to be measured afresh.
+bool update_heading(Track& tr, bool born, const TrackerParams::Box& p) {
+  const Eigen::Vector2d v = tr.velocity();
+  bool resize = born;
+  if (v.norm() > 1.0) {
+    const double heading = std::atan2(v.y(), v.x());
+    resize = resize || std::abs(std::remainder(heading - tr.extents_heading_rad, 2.0 * M_PI)) > p.heading_reset_rad;
+    tr.heading_rad = heading;
+  }
+  if (resize) tr.extents_heading_rad = tr.heading_rad;
+  return resize;
+}
+
+// The outline's points in the world plane, relative to their mean, with its extents along the
+// box axes, its heights and the view's cuts.
+struct Outline {
+  Eigen::Vector2d ref = Eigen::Vector2d::Zero();
+  std::vector<Eigen::Vector2d> pts;
+  std::vector<Cut> cuts;
+  double a0 = 0.0, a1 = 0.0, b0 = 0.0, b1 = 0.0;  // extents along u and across it, about ref
+  double zmin = std::numeric_limits<double>::infinity();
+  double zmax = -std::numeric_limits<double>::infinity();
+};
+
+Outline outline_of(const std::vector<std::uint32_t>& pixels, const Frame& frame, const ViewEdges& edges,
+                   const Eigen::Vector2d& u, const Eigen::Vector2d& wv) {
+  Outline o;
+  o.pts.reserve(pixels.size());
+  for (const std::uint32_t i : pixels) {
+    const Eigen::Vector3d q = frame.scan.position(i);
+    o.pts.push_back(frame.world_xy(q));
+    edges.add_cuts(frame, i, o.pts.back(), o.cuts);
+    o.ref += o.pts.back();
+    o.zmin = std::min(o.zmin, q.z());
+    o.zmax = std::max(o.zmax, q.z());
+  }
+  o.ref /= static_cast<double>(std::max<std::size_t>(pixels.size(), 1));
+  for (const Eigen::Vector2d& q : o.pts) {
+    const Eigen::Vector2d d = q - o.ref;
+    o.a0 = std::min(o.a0, d.dot(u));
+    o.a1 = std::max(o.a1, d.dot(u));
+    o.b0 = std::min(o.b0, d.dot(wv));
+    o.b1 = std::max(o.b1, d.dot(wv));
+  }
+  return o;
+}
+
+// Less than the whole size seen along an axis: the centre lies in [hi - size/2, lo + size/2].
+// An end of the outline is the body's own where the sensor sees that face or the silhouette,
+// unless the view cuts it there (a car beside the ego, its rear beyond a head's edge). Anchored
+// at such an end; with none, the predicted centre (pc, relative to ref), brought into the
+// interval, stands for the measurement. s: the sensor relative to ref.
+double anchor(const Outline& o, const Eigen::Vector2d& axis, double lo, double hi, double size, const Eigen::Vector2d& s,
+              const Eigen::Vector2d& pc, bool born, const TrackerParams::Box& p) {
+  if (hi - lo >= size) return 0.5 * (lo + hi);
+  // A cut counts at the end its pixel lies at (a seam between stitched heads runs through an
+  // object that spans it, away from its ends).
+  const double near_end = p.view_cut_end_m + 0.05 * (hi - lo);
+  bool cut_lo = false, cut_hi = false;
+  for (const Cut& cut : o.cuts) {
+    const double along = (cut.at - o.ref).dot(axis);
+    cut_lo = cut_lo || (cut.direction.dot(axis) < -p.view_cut_cosine && along <= lo + near_end);
+    cut_hi = cut_hi || (cut.direction.dot(axis) > p.view_cut_cosine && along >= hi - near_end);
+  }
+  const double sensor = s.dot(axis);
+  const bool lo_own = !cut_lo && sensor <= hi;
+  const bool hi_own = !cut_hi && sensor >= lo;
+  if (lo_own && hi_own) return 0.5 * (lo + hi);
+  if (lo_own) return lo + 0.5 * size;
+  if (hi_own) return hi - 0.5 * size;
+  if (born) return 0.5 * (lo + hi);
+  return std::clamp(pc.dot(axis), hi - 0.5 * size, lo + 0.5 * size);
+}
+
+}  // namespace
+
+BoxMeasurement measure_box(Track& tr, const Group& g, bool born, const Frame& frame, const ViewEdges& edges,
+                           const TrackerParams& p) {
+  const bool resize = update_heading(tr, born, p.box);
+  const Eigen::Vector2d u(std::cos(tr.heading_rad), std::sin(tr.heading_rad));
+  const Eigen::Vector2d wv(-u.y(), u.x());
+  // The box is measured on the pixels one scan found moving. When the track claimed more than
+  // one scan found moving, what moved is a Doppler slice of the object (the rest is in the blind
+  // band), not its visible outline: the box is then left as predicted. A small object wholly
+  // inside the band (a walker crossing the beams) is found by its claims alone; they lie in its
+  // predicted box, which is tight, and give its centre (not its size).
+  const bool small_track = tr.small(p);
+  BoxMeasurement m;
+  m.centre_from_claims = !born && g.found.empty() && !g.claimed.empty() && small_track;
+  static const std::vector<std::uint32_t> kNone;
+  const std::vector<std::uint32_t>& pixels = m.centre_from_claims                    ? g.claimed
+                                             : born || g.claimed.size() <= g.found.size() ? g.found
+                                                                                          : kNone;
+  m.centre = tr.centre();
+  m.seen = !pixels.empty();
+  if (!m.seen) return m;
+  const Outline o = outline_of(pixels, frame, edges, u, wv);
+  if (!m.centre_from_claims) {
+    // A walker stays small (just under small_object_m: the limbs reach out of its box).
+    const double walker_cap = std::nextafter(p.small.small_object_m, 0.0);
+    const double cap_l = tr.walker ? walker_cap : p.box.max_length_m;
+    const double cap_w = tr.walker ? walker_cap : p.box.max_width_m;
+    tr.length_m = std::min(resize ? o.a1 - o.a0 : std::max(tr.length_m, o.a1 - o.a0), cap_l);
+    tr.width_m = std::min(resize ? o.b1 - o.b0 : std::max(tr.width_m, o.b1 - o.b0), cap_w);
+    tr.z_min_m = o.zmin;  // this frame's: the ground under an object changes at curbs
+    // A walker inside the band shows only its swinging limbs: its top stays where it was.
+    tr.z_max_m = small_track && !born ? std::max(o.zmax, tr.z_max_m) : o.zmax;
+  }
+  if (tr.walker) {
+    std::vector<double> cu, cw;
+    cu.reserve(o.pts.size());
+    cw.reserve(o.pts.size());
+    for (const Eigen::Vector2d& q : o.pts) {
+      cu.push_back((q - o.ref).dot(u));
+      cw.push_back((q - o.ref).dot(wv));
+    }
+    m.centre = o.ref + upper_median(cu) * u + upper_median(cw) * wv;
+  } else {
+    const Eigen::Vector2d s = frame.position - o.ref;  // the sensor, relative to ref
+    const Eigen::Vector2d pc = tr.centre() - o.ref;
+    m.centre = o.ref + anchor(o, u, o.a0, o.a1, tr.length_m, s, pc, born, p.box) * u +
+               anchor(o, wv, o.b0, o.b1, tr.width_m, s, pc, born, p.box) * wv;
+  }
+  return m;
+}
+
+}  // namespace fmcw::core::tracking

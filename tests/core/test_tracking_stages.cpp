@@ -1,0 +1,247 @@
+// The tracker's stages (core/src/tracking/) one by one, on hand-made pixel sets whose answer is
+// known: the constant-turn-rate propagation against the closed-form arc, the box anchored at
+// the end of an outline that the sensor sees and not at one the view cuts, association gating,
+// and the background model with the claims of a carrying track.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+
+#include "fmcw/core/motion_pipeline.hpp"
+#include "tracking/association.hpp"
+#include "tracking/claims.hpp"
+#include "tracking/ctrv.hpp"
+#include "tracking/track_box.hpp"
+
+namespace fmcw::core::tracking {
+namespace {
+
+// A 5 x 20 scan of one head at the rig origin, every pixel invalid until set.
+struct HandScan {
+  Scan scan = Scan::make_empty(5, 20);
+  void set(int r, int c, const Eigen::Vector3d& p, double doppler_mps) {
+    const std::size_t i = scan.index(r, c);
+    scan.x_m[i] = static_cast<float>(p.x());
+    scan.y_m[i] = static_cast<float>(p.y());
+    scan.z_m[i] = static_cast<float>(p.z());
+    scan.range_m[i] = static_cast<float>(p.norm());
+    scan.radial_velocity_mps[i] = static_cast<float>(doppler_mps);
+    scan.intensity[i] = 1.0f;
+    scan.valid[i] = 1;
+  }
+};
+
+// The rig standing at the tracker's origin.
+Frame standing_frame(const Scan& scan, const ScanBeams& beams) {
+  return Frame{scan, beams, Eigen::Matrix2d::Identity(), Eigen::Vector2d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+}
+
+// ---- CTRV filter --------------------------------------------------------------------------
+
+TEST(TrackingCtrv, PropagationFollowsTheClosedFormArc) {
+  // In complex numbers: p(t) = p0 + v0 (e^{i w t} - 1) / (i w), v(t) = v0 e^{i w t}.
+  const std::complex<double> p0(1.0, 2.0), v0(8.0, -3.0);
+  for (const double w : {0.4, -1.1, 1e-12, 0.0}) {
+    for (const double dt : {0.1, 0.7, 2.0}) {
+      Vec5 x;
+      x << p0.real(), p0.imag(), v0.real(), v0.imag(), w;
+      const Vec5 y = propagate(x, dt);
+      const std::complex<double> turn = std::polar(1.0, w * dt);
+      const std::complex<double> p = std::abs(w) > 1e-9 ? p0 + v0 * (turn - 1.0) / std::complex<double>(0.0, w) : p0 + v0 * dt;
+      const std::complex<double> v = v0 * turn;
+      EXPECT_NEAR(y(0), p.real(), 1e-9) << "w " << w << " dt " << dt;
+      EXPECT_NEAR(y(1), p.imag(), 1e-9) << "w " << w << " dt " << dt;
+      EXPECT_NEAR(y(2), v.real(), 1e-12);
+      EXPECT_NEAR(y(3), v.imag(), 1e-12);
+      EXPECT_EQ(y(4), w);
+    }
+  }
+}
+
+TEST(TrackingCtrv, PredictionTurnsTheBoxAndGrowsTheCovariance) {
+  Track t;
+  t.x << 0.0, 0.0, 10.0, 0.0, 0.5;
+  t.P = Mat5::Identity() * 0.01;
+  const Vec5 expected = propagate(t.x, 0.2);
+  predict(t, 0.2, TrackerParams{}.motion);
+  EXPECT_TRUE(t.x.isApprox(expected));
+  EXPECT_NEAR(t.heading_rad, 0.1, 1e-12);
+  EXPECT_TRUE(t.P.isApprox(t.P.transpose()));
+  EXPECT_GT(t.P(0, 0), 0.01);  // position uncertainty grows with velocity and acceleration noise
+  EXPECT_GT(t.P(4, 4), 0.01);
+  // The position's variance along y picks up the yaw rate's: y moves by v dt^2 / 2 per rad/s.
+  EXPECT_GT(t.P(1, 4), 0.0);
+}
+
+// ---- The box: anchoring and view cuts -----------------------------------------------------
+
+// A car 4.5 m long, heading along +x, of which the 2 m from x = 10 to 12 show at y = 15 (the
+// rig at the origin sees its rear end, x = 10). With the rear pixel on the head's first column
+// the view cuts that end, and the box cannot be anchored there.
+Eigen::Vector2d measured_centre(bool rear_on_view_edge, double predicted_x) {
+  HandScan h;
+  for (int n = 0; n <= 8; ++n) {
+    const int col = n == 0 && rear_on_view_edge ? 0 : 2 + n;
+    h.set(2, col, Eigen::Vector3d(10.0 + 0.25 * n, 15.0, 0.5), 0.0);
+  }
+  const ScanBeams beams(h.scan);
+  const Frame frame = standing_frame(h.scan, beams);
+  Track tr;
+  tr.x << predicted_x, 15.9, 5.0, 0.0, 0.0;
+  tr.length_m = 4.5;
+  tr.width_m = 1.8;
+  tr.heading_rad = tr.extents_heading_rad = 0.0;
+  Group g;
+  for (std::size_t i = 0; i < h.scan.size(); ++i) {
+    if (h.scan.valid[i]) g.found.push_back(static_cast<std::uint32_t>(i));
+  }
+  const BoxMeasurement m = measure_box(tr, g, false, frame, ViewEdges(h.scan), TrackerParams{});
+  EXPECT_TRUE(m.seen);
+  EXPECT_NEAR(tr.length_m, 4.5, 1e-9);  // the longest extent seen stays
+  return m.centre;
+}
+
+TEST(TrackingBox, AnchoredAtTheEndTheSensorSees) {
+  // The seen rear end at x = 10 holds: centre at 10 + 4.5 / 2; across, the near side at y = 15.
+  const Eigen::Vector2d c = measured_centre(false, 11.0);
+  EXPECT_NEAR(c.x(), 12.25, 1e-6);
+  EXPECT_NEAR(c.y(), 15.9, 1e-6);
+}
+
+TEST(TrackingBox, NotAnchoredAtAnEndTheViewCuts) {
+  // Cut at the rear: no end is the body's own along x; the predicted centre, brought into
+  // [hi - 2.25, lo + 2.25] = [9.75, 12.25], stands for the measurement.
+  EXPECT_NEAR(measured_centre(true, 11.0).x(), 11.0, 1e-6);
+  EXPECT_NEAR(measured_centre(true, 14.0).x(), 12.25, 1e-6);
+  EXPECT_NEAR(measured_centre(true, 8.0).x(), 9.75, 1e-6);
+}
+
+TEST(TrackingBox, ViewEdgesCutAtTheHeadsColumnsAndTheTopAndBottomRows) {
+  HandScan h;
+  h.set(2, 0, Eigen::Vector3d(10.0, 15.0, 0.5), 0.0);   // first column
+  h.set(2, 9, Eigen::Vector3d(10.0, 1.0, 0.5), 0.0);    // inside
+  h.set(4, 9, Eigen::Vector3d(10.0, 1.0, -0.5), 0.0);   // bottom row: cut towards the sensor
+  const ScanBeams beams(h.scan);
+  const Frame frame = standing_frame(h.scan, beams);
+  const ViewEdges edges(h.scan);
+  std::vector<Cut> cuts;
+  edges.add_cuts(frame, static_cast<std::uint32_t>(h.scan.index(2, 9)), Eigen::Vector2d(10.0, 1.0), cuts);
+  EXPECT_TRUE(cuts.empty());
+  edges.add_cuts(frame, static_cast<std::uint32_t>(h.scan.index(2, 0)), Eigen::Vector2d(10.0, 15.0), cuts);
+  ASSERT_EQ(cuts.size(), 1u);
+  EXPECT_LT(cuts[0].direction.x(), -0.5);  // away from the head's axis, out of its field of view
+  EXPECT_GT(cuts[0].direction.y(), 0.0);
+  cuts.clear();
+  edges.add_cuts(frame, static_cast<std::uint32_t>(h.scan.index(4, 9)), Eigen::Vector2d(10.0, 1.0), cuts);
+  ASSERT_EQ(cuts.size(), 1u);
+  EXPECT_LT(cuts[0].direction.x(), -0.9);  // towards the sensor
+}
+
+// ---- Association gating -------------------------------------------------------------------
+
+// A track at (20, 0) moving at 5 m/s along x; three clusters of 10 pixels: one on it whose
+// Doppler its motion explains, one on it whose Doppler it does not, one 10 m beside it.
+TEST(TrackingAssociation, GatesByBoxAndDoppler) {
+  HandScan h;
+  MotionEstimate est;
+  est.labels.assign(h.scan.size(), 0);
+  const auto add_cluster = [&](int row, const Eigen::Vector2d& at, double extra_doppler) {
+    ClusterEstimate ce;
+    ce.id = static_cast<std::int32_t>(est.clusters.size()) + 1;
+    for (int n = 0; n < 10; ++n) {
+      const Eigen::Vector3d p(at.x() + 0.1 * n, at.y(), 0.5);
+      h.set(row, 5 + n, p, 5.0 * p.normalized().x() + extra_doppler);
+      est.labels[h.scan.index(row, 5 + n)] = ce.id;
+      ce.centroid_m += p / 10.0;
+    }
+    ce.num_pixels = 10;
+    est.clusters.push_back(ce);
+  };
+  add_cluster(0, {19.5, 0.0}, 0.0);
+  add_cluster(1, {19.5, 0.3}, 3.0);
+  add_cluster(2, {19.5, 10.0}, 0.0);
+  const ScanBeams beams(h.scan);
+  const Frame frame = standing_frame(h.scan, beams);
+  Track tr;
+  tr.x << 20.0, 0.0, 5.0, 0.0, 0.0;
+  tr.P = Mat5::Identity() * 1e-4;
+  tr.length_m = 4.5;
+  tr.width_m = 1.8;
+  const std::vector<Track> tracks{tr};
+  const std::vector<Box> boxes{box_of(tr)};
+  std::vector<Group> groups(1);
+  const auto cluster_pixels = pixels_of_clusters(est);
+  EXPECT_NEAR(doppler_deviation(frame, cluster_pixels[0], tr), 0.0, 1e-5);
+  EXPECT_NEAR(doppler_deviation(frame, cluster_pixels[1], tr), 3.0, 1e-5);
+  const Association a = associate(frame, cluster_pixels, est, tracks, boxes, TrackerParams{}, groups);
+  EXPECT_EQ(a.owner[0], 0);   // on the box, Doppler explained
+  EXPECT_EQ(a.owner[1], -1);  // on the box, Doppler 3 m/s off
+  EXPECT_EQ(a.absorbed[1], 0);  // small, inside a vehicle's box: a wheel, absorbed
+  EXPECT_EQ(a.owner[2], -1);  // 10 m away
+  EXPECT_EQ(a.absorbed[2], -1);
+  EXPECT_EQ(groups[0].found, cluster_pixels[0]);
+  EXPECT_EQ(groups[0].absorbed, std::vector<std::int32_t>{2});
+}
+
+// ---- Background model and claims ----------------------------------------------------------
+
+TEST(TrackingBackground, ForegroundIsWhatComesIntoSpaceSeenEmpty) {
+  HandScan h;
+  for (int r = 0; r < 5; ++r) {
+    for (int c = 0; c < 20; ++c) h.set(r, c, Eigen::Vector3d(20.0, 0.0, 0.0), 0.0);
+  }
+  BackgroundModel bg;
+  const TrackerParams::Background p;
+  bg.begin_frame(h.scan, true);
+  for (int k = 0; k < p.min_frames; ++k) bg.add(h.scan);
+  EXPECT_TRUE(bg.ready(p));
+  h.set(2, 10, Eigen::Vector3d(10.0, 0.0, 0.0), 0.0);
+  EXPECT_TRUE(bg.foreground(h.scan, h.scan.index(2, 10), p.margin_m));
+  h.set(2, 10, Eigen::Vector3d(19.8, 0.0, 0.0), 0.0);  // within the margin
+  EXPECT_FALSE(bg.foreground(h.scan, h.scan.index(2, 10), p.margin_m));
+  bg.begin_frame(h.scan, false);  // the rig moves: start again
+  EXPECT_EQ(bg.frames(), 0);
+  EXPECT_FALSE(bg.ready(p));
+}
+
+// A confirmed track at (20, 0) moving at 5 m/s along x claims the static pixels inside its box
+// whose Doppler its motion explains; not those outside it, below its ground clearance, or with
+// other Doppler.
+TEST(TrackingClaims, CarryingTrackClaimsPixelsThatMoveAsItDoes) {
+  HandScan h;
+  MotionEstimate est;
+  est.labels.assign(h.scan.size(), Segmentation::kInvalid);
+  const auto put = [&](int c, const Eigen::Vector3d& p, double extra) {
+    h.set(1, c, p, 5.0 * p.normalized().x() + extra);
+    est.labels[h.scan.index(1, c)] = 0;  // static
+  };
+  put(0, {20.0, 0.5, 0.8}, 0.0);   // claimed
+  put(1, {21.0, -0.5, 1.2}, 0.0);  // claimed
+  put(2, {20.0, 0.5, 0.8}, 1.0);   // other Doppler
+  put(3, {30.0, 0.5, 0.8}, 0.0);   // outside the box
+  put(4, {20.0, 0.5, 0.05}, 0.0);  // below the clearance: the ground under it
+  const ScanBeams beams(h.scan);
+  const Frame frame = standing_frame(h.scan, beams);
+  Track tr;
+  tr.x << 20.0, 0.0, 5.0, 0.0, 0.0;
+  tr.length_m = 4.5;
+  tr.width_m = 1.8;
+  tr.z_min_m = 0.0;
+  tr.z_max_m = 1.5;
+  tr.confirmed = true;
+  std::vector<Group> groups(1);
+  const BackgroundModel background;
+  claim_pixels(frame, est, {tr}, {box_of(tr)}, background, TrackerParams{}, groups);
+  EXPECT_EQ(groups[0].claimed, (std::vector<std::uint32_t>{static_cast<std::uint32_t>(h.scan.index(1, 0)),
+                                                           static_cast<std::uint32_t>(h.scan.index(1, 1))}));
+  EXPECT_TRUE(groups[0].found.empty());
+  // A track that does not carry (not confirmed) claims nothing.
+  tr.confirmed = false;
+  std::vector<Group> none(1);
+  claim_pixels(frame, est, {tr}, {box_of(tr)}, background, TrackerParams{}, none);
+  EXPECT_TRUE(none[0].claimed.empty());
+}
+
+}  // namespace
+}  // namespace fmcw::core::tracking
