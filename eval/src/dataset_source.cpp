@@ -2,25 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 
+#include "fmcw/io/dataset_header.hpp"
 #include "fmcw/io/pcd.hpp"
 #include "fmcw/io/truth_tables.hpp"
-#include "fmcw/sim/yaml_reader.hpp"
 
 namespace fmcw::eval {
 
 namespace fs = std::filesystem;
 
 namespace {
-std::string frame_name(std::size_t k) {
-  char name[32];
-  std::snprintf(name, sizeof name, "%06zu.pcd", k);
-  return name;
-}
-
 // The .pcd files of frames/, which must be 000000.pcd, 000001.pcd, ... without gaps.
 std::vector<std::string> numbered_frames(const fs::path& frames_dir) {
   std::vector<std::string> names;
@@ -34,8 +27,9 @@ std::vector<std::string> numbered_frames(const fs::path& frames_dir) {
   std::sort(names.begin(), names.end());
   std::vector<std::string> files;
   for (std::size_t k = 0; k < names.size(); ++k) {
-    if (names[k] != frame_name(k)) {
-      throw std::invalid_argument((frames_dir / frame_name(k)).string() + ": missing (found '" + names[k] +
+    const std::string expected = io::frame_file_name(static_cast<long long>(k));
+    if (names[k] != expected) {
+      throw std::invalid_argument((frames_dir / expected).string() + ": missing (found '" + names[k] +
                                   "'; frames must be numbered from 000000 without gaps)");
     }
     files.push_back((frames_dir / names[k]).string());
@@ -55,36 +49,24 @@ DatasetSource::DatasetSource(const std::string& dir, int max_frames) {
   const fs::path frames_dir = root / "frames";
   if (!fs::is_directory(frames_dir, ec)) throw std::invalid_argument(frames_dir.string() + ": missing frames folder");
 
-  // dataset.yaml is read leniently (a newer writer may add keys) but what is read must be right.
-  const sim::YamlValue doc = sim::YamlValue::load_file(yaml_file.string());
-  if (!doc.is_map()) doc.fail("expected a map");
-  const auto key = [&](const sim::YamlValue& parent, const std::string& name) {
-    const YAML::Node node = parent.node()[name];
-    if (!node.IsDefined()) parent.fail("missing key '" + name + "'");
-    return sim::YamlValue(node, parent.file(), parent.path().empty() ? name : parent.path() + "." + name);
-  };
-  const sim::YamlValue format = key(doc, "format");
-  if (format.as_string() != "fmcw-dataset") format.fail("expected 'fmcw-dataset', got '" + format.as_string() + "'");
-  const sim::YamlValue complete = key(doc, "complete");
-  if (doc.node()["shard"].IsDefined()) {
-    key(doc, "shard").fail("this is one shard of a dataset: join all shards with `fmcw merge` first");
+  const std::string yaml = yaml_file.string();
+  const io::DatasetHeader header = io::DatasetHeader::read(yaml);
+  if (header.shard) throw std::invalid_argument(yaml + ": shard: this is one shard of a dataset: join all shards with `fmcw merge` first");
+  if (!header.complete) {
+    throw std::invalid_argument(yaml + ": complete: false: the dataset is incomplete (its writer stopped early): finish it "
+                                "with `fmcw simulate ... --resume`");
   }
-  if (!complete.as_bool()) {
-    complete.fail("the dataset is incomplete (its writer stopped early): finish it with `fmcw simulate ... --resume`");
-  }
-  const sim::YamlValue written = key(doc, "frames_written");
-  const sim::YamlValue scenario = key(doc, "scenario");
   info_.path = dir;
-  info_.scenario = key(scenario, "name").as_string();
-  info_.rate_hz = key(scenario, "rate_hz").as_double();
-  if (!(info_.rate_hz > 0.0)) key(scenario, "rate_hz").fail("must be > 0");
-  info_.seed = key(scenario, "seed").as_uint64();
-  info_.config_yaml = YAML::Dump(scenario.node());
+  info_.scenario = header.scenario.name;
+  info_.rate_hz = header.scenario.rate_hz;
+  info_.seed = header.scenario.seed;
+  // The scenario block as written (whole lines), without the last line's newline.
+  info_.config_yaml = header.scenario_yaml.substr(0, header.scenario_yaml.empty() ? 0 : header.scenario_yaml.size() - 1);
 
   files_ = numbered_frames(frames_dir);
-  if (static_cast<int>(files_.size()) != written.as_int()) {
-    written.fail("says " + std::to_string(written.as_int()) + " frames, but " + frames_dir.string() + " holds " +
-                 std::to_string(files_.size()) + " .pcd files");
+  if (files_.size() != static_cast<std::size_t>(header.frames_written)) {
+    throw std::invalid_argument(yaml + ": frames_written: says " + std::to_string(header.frames_written) + " frames, but " +
+                                frames_dir.string() + " holds " + std::to_string(files_.size()) + " .pcd files");
   }
   const std::string ego_csv = (root / "ego.csv").string();
   const std::string objects_csv = (root / "objects.csv").string();
@@ -119,17 +101,6 @@ core::Frame DatasetSource::frame(std::size_t k) {
   }
   f.frame_truth = t;
   return f;
-}
-
-std::unique_ptr<FrameSource> open_frame_source(const std::string& path, int max_frames) {
-  const fs::path p(path);
-  const std::string ext = p.extension().string();
-  if (ext == ".yaml" || ext == ".yml") {
-    std::error_code ec;
-    if (!fs::is_regular_file(p, ec)) throw std::invalid_argument(path + ": file does not exist");
-    return std::make_unique<ScenarioSource>(path, max_frames);
-  }
-  return std::make_unique<DatasetSource>(path, max_frames);
 }
 
 }  // namespace fmcw::eval

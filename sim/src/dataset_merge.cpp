@@ -10,7 +10,7 @@
 #include "fmcw/io/atomic_file.hpp"
 #include "fmcw/io/output_folder.hpp"
 #include "fmcw/io/truth_tables.hpp"
-#include "fmcw/sim/dataset_header.hpp"
+#include "fmcw/io/dataset_header.hpp"
 
 namespace fmcw::sim {
 
@@ -20,7 +20,7 @@ namespace {
 
 struct Shard {
   fs::path dir;
-  DatasetHeader header;
+  io::DatasetHeader header;
 };
 
 // A truth table's rows without its header line.
@@ -63,7 +63,7 @@ MergeSummary merge_shards(const std::vector<std::string>& shard_dirs, const std:
     const fs::path yaml = fs::path(d) / "dataset.yaml";
     std::error_code ec;
     if (!fs::is_regular_file(yaml, ec)) throw std::invalid_argument(yaml.string() + ": missing (not a shard written by fmcw simulate --shard)");
-    Shard s{d, DatasetHeader::read(yaml.string())};
+    Shard s{d, io::DatasetHeader::read(yaml.string())};
     if (!s.header.shard) throw std::invalid_argument(yaml.string() + ": not a shard (no 'shard' key): it is a whole dataset already");
     if (!s.header.complete) {
       throw std::invalid_argument(yaml.string() + ": shard " + std::to_string(s.header.shard->index) + " is incomplete (" +
@@ -74,10 +74,10 @@ MergeSummary merge_shards(const std::vector<std::string>& shard_dirs, const std:
   }
   std::sort(shards.begin(), shards.end(),
             [](const Shard& a, const Shard& b) { return a.header.shard->index < b.header.shard->index; });
-  const DatasetHeader& first = shards.front().header;
+  const io::DatasetHeader& first = shards.front().header;
   const int count = first.shard->count;
   for (std::size_t i = 0; i < shards.size(); ++i) {
-    const DatasetHeader& h = shards[i].header;
+    const io::DatasetHeader& h = shards[i].header;
     const std::string name = (shards[i].dir / "dataset.yaml").string();
     if (h.shard->count != count) {
       throw std::invalid_argument(name + ": shard of " + std::to_string(h.shard->count) + " parts, but " +
@@ -129,9 +129,9 @@ MergeSummary merge_shards(const std::vector<std::string>& shard_dirs, const std:
   std::string objects = io::kObjectsCsvHeader;
   for (const Shard& s : shards) {
     for (int k = s.header.shard->first_frame; k < s.header.shard->end_frame; ++k) {
-      const fs::path from = s.dir / "frames" / frame_file_name(k);
+      const fs::path from = s.dir / "frames" / io::frame_file_name(k);
       if (!fs::is_regular_file(from, ec)) throw std::invalid_argument(from.string() + ": missing frame of a complete shard");
-      summary.frames_linked += place_frame(from, out / "frames" / frame_file_name(k)) ? 1 : 0;
+      summary.frames_linked += place_frame(from, out / "frames" / io::frame_file_name(k)) ? 1 : 0;
       ++summary.frames;
     }
     ego += table_rows(s.dir / "ego.csv", io::kEgoCsvHeader);
@@ -139,7 +139,7 @@ MergeSummary merge_shards(const std::vector<std::string>& shard_dirs, const std:
   }
   io::write_file_atomically((out / "ego.csv").string(), [&](std::ostream& o) { o << ego; });
   io::write_file_atomically((out / "objects.csv").string(), [&](std::ostream& o) { o << objects; });
-  DatasetHeader merged = first;
+  io::DatasetHeader merged = first;
   merged.shard.reset();
   merged.complete = true;
   merged.frames_written = summary.frames;

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "fmcw/io/atomic_file.hpp"
+#include "fmcw/io/dataset_header.hpp"
 #include "fmcw/io/output_folder.hpp"
 #include "fmcw/io/pcd.hpp"
 #include "fmcw/io/truth_tables.hpp"
@@ -120,10 +121,10 @@ std::string kept_frame_fault(const fs::path& file, double stamp_s) {
 // the stop, and returns how many whole frames it holds. Every frame it counts is read back: from
 // the first that is missing, cut short or not the frame this run would write, the frames are
 // simulated again (note says which and why).
-int prepare_resume(const fs::path& dir, const DatasetHeader& wanted, int total_frames, const Scenario& scenario,
+int prepare_resume(const fs::path& dir, const io::DatasetHeader& wanted, int total_frames, const Scenario& scenario,
                    std::string& note) {
   const std::string yaml_file = (dir / "dataset.yaml").string();
-  const DatasetHeader found = DatasetHeader::read(yaml_file);
+  const io::DatasetHeader found = io::DatasetHeader::read(yaml_file);
   const std::string hint = " (resume needs the same scenario file, --frames, --seed, --shard and fmcw version)";
   if (found.tool_version != wanted.tool_version) {
     throw std::invalid_argument(yaml_file + ": written by fmcw " + found.tool_version + ", this is " +
@@ -133,7 +134,7 @@ int prepare_resume(const fs::path& dir, const DatasetHeader& wanted, int total_f
     throw std::invalid_argument(yaml_file + ": the dataset was started with another scenario or options, first difference at " +
                                 first_difference(found.scenario_yaml, wanted.scenario_yaml) + hint);
   }
-  const auto shard_text = [](const std::optional<ShardInfo>& s) {
+  const auto shard_text = [](const std::optional<io::ShardInfo>& s) {
     return s ? std::to_string(s->index) + "/" + std::to_string(s->count) : std::string("none");
   };
   if (found.shard.has_value() != wanted.shard.has_value() || (found.shard && !(*found.shard == *wanted.shard))) {
@@ -147,7 +148,7 @@ int prepare_resume(const fs::path& dir, const DatasetHeader& wanted, int total_f
                                 std::to_string(total_frames) + " this run writes; the dataset cannot be resumed");
   }
   for (int k = first; k < first + done; ++k) {
-    const fs::path file = dir / "frames" / frame_file_name(k);
+    const fs::path file = dir / "frames" / io::frame_file_name(k);
     const std::string fault = kept_frame_fault(file, scenario.frame_time_s(static_cast<std::uint64_t>(k)));
     if (fault.empty()) continue;
     note = file.string() + ": " + fault + "; it and the " + std::to_string(first + done - k - 1) +
@@ -181,8 +182,8 @@ DatasetSummary write_dataset(const LoadedScenario& loaded_in, const DatasetOptio
   Scenario& s = loaded.scenario;
   if (options.frames > 0) s.frames = options.frames;
   if (options.override_seed) s.seed = options.seed;
-  const ShardInfo shard = ShardInfo::of(options.shard_index, options.shard_count, s.frames);
-  DatasetHeader header;
+  const io::ShardInfo shard = io::ShardInfo::of(options.shard_index, options.shard_count, s.frames);
+  io::DatasetHeader header;
   header.tool_version = options.tool_version;
   header.motion_distortion = s.motion_distortion;
   if (options.shard_count > 1) header.shard = shard;
@@ -254,7 +255,7 @@ DatasetSummary write_dataset(const LoadedScenario& loaded_in, const DatasetOptio
         break;
       }
       simulator.simulate(static_cast<std::uint64_t>(k), s.frame_time_s(static_cast<std::uint64_t>(k)), frame);
-      io::write_frame((dir / "frames" / frame_file_name(k)).string(), frame);
+      io::write_frame((dir / "frames" / io::frame_file_name(k)).string(), frame);
       append(ego_out, dir / "ego.csv", io::ego_csv_row(static_cast<std::size_t>(k), *frame.frame_truth));
       append(objects_out, dir / "objects.csv", io::objects_csv_rows(static_cast<std::size_t>(k), *frame.frame_truth));
       summary.returns += frame.scan.num_valid();

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "fmcw/sim/yaml_reader.hpp"
+#include "fmcw/io/yaml_reader.hpp"
 
 namespace fmcw::sim::detail {
 
@@ -239,7 +239,7 @@ void GltfDocument::load_buffers() {
         }
       } else {
         const std::string file = (fs::path(path_).parent_path() / percent_decode(uri)).string();
-        if (!is_existing_file(file)) fail(where + ".uri names '" + file + "', which does not exist");
+        if (!io::is_existing_file(file)) fail(where + ".uri names '" + file + "', which does not exist");
         data = read_bytes(file, "mesh '" + path_ + "': " + where + " file '" + file + "'");
       }
     }

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "fmcw/sim/yaml_reader.hpp"
+#include "fmcw/io/yaml_reader.hpp"
 #include "mesh_loaders.hpp"
 
 namespace fmcw::sim {
@@ -103,7 +103,7 @@ MeshAsset box_mesh(const Eigen::Vector3f& h, float reflectivity, const std::stri
 }
 
 MeshAsset load_mesh_asset(const std::string& path, const ReflectivityTable& reflectivity, float default_reflectivity) {
-  if (!is_existing_file(path)) {
+  if (!io::is_existing_file(path)) {
     throw std::invalid_argument("mesh '" + path + "' does not exist");
   }
   std::optional<MeshAsset> gltf = detail::load_animated_gltf(path, reflectivity, default_reflectivity);

@@ -8,12 +8,17 @@
 #include <sstream>
 
 #include "fmcw/core/check.hpp"
-#include "fmcw/sim/yaml_reader.hpp"
+#include "fmcw/io/yaml_reader.hpp"
 #include "fmcw/core/threads.hpp"
 #include "memory_budget.hpp"
 #include "scene_limits.hpp"
 
 namespace fmcw::sim {
+
+using io::YamlMap;
+using io::YamlValue;
+using io::is_existing_file;
+using io::missing_file_reason;
 
 namespace fs = std::filesystem;
 

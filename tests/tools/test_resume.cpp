@@ -12,6 +12,7 @@
 #include <fstream>
 #include <thread>
 
+#include "fmcw/io/dataset_header.hpp"
 #include "support/child_process.hpp"
 #include "support/cli.hpp"
 #include "support/dataset_files.hpp"
@@ -108,8 +109,7 @@ TEST_F(Resume, SigkillAtAnyPointIsRepairedByResume) {
   ASSERT_LT(n, kFrames);
   // Every frame dataset.yaml counts is whole; a frame or temporary file beyond them may be there.
   for (int k = 0; k < n; ++k) {
-    char name[32];
-    std::snprintf(name, sizeof name, "frames/%06d.pcd", k);
+    const std::string name = "frames/" + fmcw::io::frame_file_name(k);
     EXPECT_EQ(slurp(dir_ / "out" / name), expected.at(name)) << name;
   }
   resume("out");

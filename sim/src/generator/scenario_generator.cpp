@@ -17,7 +17,7 @@
 #include "fmcw/core/check.hpp"
 #include "fmcw/core/random.hpp"
 #include "fmcw/sim/mesh_asset.hpp"
-#include "fmcw/sim/yaml_reader.hpp"
+#include "fmcw/io/yaml_reader.hpp"
 #include "layouts.hpp"
 
 namespace fmcw::sim {
@@ -43,7 +43,7 @@ std::shared_ptr<const GeneratorAssets> load_generator_assets(const GeneratorConf
       {"tree", true},  {"pole", true},   {"sign", true},  {"barrier", true}};
   for (const auto& [role, is_static] : roles) {
     const std::string path = (fs::path(config.assets_dir) / (role + ".gltf")).string();
-    FMCW_CHECK_ARG(is_existing_file(path), config.source_file, ": assets: no ", role, ".gltf in ", config.assets_dir);
+    FMCW_CHECK_ARG(io::is_existing_file(path), config.source_file, ": assets: no ", role, ".gltf in ", config.assets_dir);
     const MeshAsset asset = load_mesh_asset(path, {}, 0.3f);
     GeneratorAssets::Mesh m;
     m.path = path;
@@ -616,7 +616,7 @@ GeneratedScenario generate_scenario(const GeneratorConfig& config, const Generat
 
 std::vector<SetEntry> read_set_manifest(const std::string& path) {
   std::ifstream in(path);
-  FMCW_CHECK_ARG(in.good() && is_existing_file(path), path, ": no manifest here (a set folder written by fmcw generate holds one)");
+  FMCW_CHECK_ARG(in.good() && io::is_existing_file(path), path, ": no manifest here (a set folder written by fmcw generate holds one)");
   const auto split = [](const std::string& line) {
     std::vector<std::string> cells;
     std::stringstream ss(line);

@@ -5,7 +5,6 @@
 #include <functional>
 #include <string>
 
-#include "fmcw/sim/dataset_header.hpp"
 #include "fmcw/sim/scenario.hpp"
 
 namespace fmcw::sim {
@@ -20,7 +19,7 @@ struct DatasetOptions {
   /// Continue the dataset in output_dir where it stopped (same scenario, options and tool
   /// version); a missing or empty folder starts from the beginning.
   bool resume = false;
-  int shard_index = 0;         ///< write part shard_index of shard_count (frames by ShardInfo::of)
+  int shard_index = 0;         ///< write part shard_index of shard_count (frames by io::ShardInfo::of)
   int shard_count = 1;
   std::string tool_version = "unknown";
   /// Asked before each frame; true stops the run after the last whole frame (SIGINT, SIGTERM).

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace fmcw::sim {
+namespace fmcw::io {
 
 /// True for an existing regular file; false, never an exception, for a path the system rejects
 /// (too long, a component not a folder, no permission): a scenario may name anything.
@@ -71,4 +71,4 @@ class YamlMap {
   std::set<std::string> used_;
 };
 
-}  // namespace fmcw::sim
+}  // namespace fmcw::io

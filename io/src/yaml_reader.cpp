@@ -1,4 +1,4 @@
-#include "fmcw/sim/yaml_reader.hpp"
+#include "fmcw/io/yaml_reader.hpp"
 
 #include <yaml-cpp/depthguard.h>
 
@@ -9,7 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace fmcw::sim {
+namespace fmcw::io {
 
 bool is_existing_file(const std::string& path) {
   std::error_code ec;
@@ -193,4 +193,4 @@ void YamlMap::finish() const {
   }
 }
 
-}  // namespace fmcw::sim
+}  // namespace fmcw::io
