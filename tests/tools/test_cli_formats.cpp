@@ -15,6 +15,7 @@
 #include "fmcw/io/aeva.hpp"
 #include "fmcw/io/pcd.hpp"
 #include "support/cli.hpp"
+#include "support/ply_reader.hpp"
 #include "support/temp_dir.hpp"
 
 namespace {
@@ -147,6 +148,20 @@ TEST_F(CliFormats, ExportWritesEachFormatForEveryFrame) {
   const fmcw::core::Frame a = fmcw::io::read_frame(path("in/a.pcd"));
   const fmcw::core::Frame back = fmcw::io::read_frame(path("pcd/a.pcd"));
   EXPECT_EQ(fs::file_size(dir_ / "kitti/velodyne/a.bin"), a.scan.num_valid() * 16);
+  // The PLY holds every point with a return, in pixel order, at its position and Doppler, and
+  // a colour per point.
+  const fmcw::test::PlyVertices ply = fmcw::test::read_ply(path("ply/a.ply"));
+  ASSERT_EQ(ply.count, a.scan.num_valid());
+  for (const char* name : {"x", "y", "z", "v", "red", "green", "blue"}) ASSERT_EQ(ply.values.count(name), 1u) << name;
+  std::size_t vertex = 0;
+  for (std::size_t i = 0; i < a.scan.size(); ++i) {
+    if (!a.scan.valid[i]) continue;
+    ASSERT_EQ(ply.values.at("x")[vertex], a.scan.x_m[i]) << "pixel " << i;
+    ASSERT_EQ(ply.values.at("y")[vertex], a.scan.y_m[i]) << "pixel " << i;
+    ASSERT_EQ(ply.values.at("z")[vertex], a.scan.z_m[i]) << "pixel " << i;
+    ASSERT_EQ(ply.values.at("v")[vertex], a.scan.radial_velocity_mps[i]) << "pixel " << i;
+    ++vertex;
+  }
   EXPECT_EQ(back.scan.radial_velocity_mps.size(), a.scan.radial_velocity_mps.size());
   EXPECT_TRUE(std::equal(a.scan.x_m.begin(), a.scan.x_m.end(), back.scan.x_m.begin(),
                          [](float p, float q) { return (std::isnan(p) && std::isnan(q)) || p == q; }));
