@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "fmcw/core/errors.hpp"
 #include "fmcw/io/dataset_header.hpp"
 #include "fmcw/io/pcd.hpp"
 #include "fmcw/io/truth_tables.hpp"
@@ -22,15 +23,15 @@ std::vector<std::string> numbered_frames(const fs::path& frames_dir) {
     const std::string name = entry.path().filename().string();
     if (entry.is_regular_file() && entry.path().extension() == ".pcd" && name[0] != '.') names.push_back(name);
   }
-  if (ec) throw std::invalid_argument(frames_dir.string() + ": cannot list: " + ec.message());
-  if (names.empty()) throw std::invalid_argument(frames_dir.string() + ": holds no .pcd frame");
+  if (ec) throw core::FileError(frames_dir.string() + ": cannot list: " + ec.message());
+  if (names.empty()) throw core::FileError(frames_dir.string() + ": holds no .pcd frame");
   std::sort(names.begin(), names.end());
   std::vector<std::string> files;
   for (std::size_t k = 0; k < names.size(); ++k) {
     const std::string expected = io::frame_file_name(static_cast<long long>(k));
     if (names[k] != expected) {
-      throw std::invalid_argument((frames_dir / expected).string() + ": missing (found '" + names[k] +
-                                  "'; frames must be numbered from 000000 without gaps)");
+      throw core::FileError((frames_dir / expected).string() + ": missing (found '" + names[k] +
+                            "'; frames must be numbered from 000000 without gaps)");
     }
     files.push_back((frames_dir / names[k]).string());
   }
@@ -41,20 +42,20 @@ std::vector<std::string> numbered_frames(const fs::path& frames_dir) {
 DatasetSource::DatasetSource(const std::string& dir, int max_frames) {
   const fs::path root(dir);
   std::error_code ec;
-  if (!fs::is_directory(root, ec)) throw std::invalid_argument("dataset '" + dir + "': not a folder");
+  if (!fs::is_directory(root, ec)) throw core::FileError("dataset '" + dir + "': not a folder");
   const fs::path yaml_file = root / "dataset.yaml";
   if (!fs::is_regular_file(yaml_file, ec)) {
-    throw std::invalid_argument(yaml_file.string() + ": missing (not a dataset written by `fmcw simulate`)");
+    throw core::FileError(yaml_file.string() + ": missing (not a dataset written by `fmcw simulate`)");
   }
   const fs::path frames_dir = root / "frames";
-  if (!fs::is_directory(frames_dir, ec)) throw std::invalid_argument(frames_dir.string() + ": missing frames folder");
+  if (!fs::is_directory(frames_dir, ec)) throw core::FileError(frames_dir.string() + ": missing frames folder");
 
   const std::string yaml = yaml_file.string();
   const io::DatasetHeader header = io::DatasetHeader::read(yaml);
-  if (header.shard) throw std::invalid_argument(yaml + ": shard: this is one shard of a dataset: join all shards with `fmcw merge` first");
+  if (header.shard) throw core::FileError(yaml + ": shard: this is one shard of a dataset: join all shards with `fmcw merge` first");
   if (!header.complete) {
-    throw std::invalid_argument(yaml + ": complete: false: the dataset is incomplete (its writer stopped early): finish it "
-                                "with `fmcw simulate ... --resume`");
+    throw core::FileError(yaml + ": complete: false: the dataset is incomplete (its writer stopped early): finish it "
+                          "with `fmcw simulate ... --resume`");
   }
   info_.path = dir;
   info_.scenario = header.scenario.name;
@@ -65,18 +66,18 @@ DatasetSource::DatasetSource(const std::string& dir, int max_frames) {
 
   files_ = numbered_frames(frames_dir);
   if (files_.size() != static_cast<std::size_t>(header.frames_written)) {
-    throw std::invalid_argument(yaml + ": frames_written: says " + std::to_string(header.frames_written) + " frames, but " +
-                                frames_dir.string() + " holds " + std::to_string(files_.size()) + " .pcd files");
+    throw core::FileError(yaml + ": frames_written: says " + std::to_string(header.frames_written) + " frames, but " +
+                          frames_dir.string() + " holds " + std::to_string(files_.size()) + " .pcd files");
   }
   const std::string ego_csv = (root / "ego.csv").string();
   const std::string objects_csv = (root / "objects.csv").string();
   for (const std::string& f : {ego_csv, objects_csv}) {
-    if (!fs::is_regular_file(f, ec)) throw std::invalid_argument(f + ": missing truth table");
+    if (!fs::is_regular_file(f, ec)) throw core::FileError(f + ": missing truth table");
   }
   truth_ = io::read_truth_tables(ego_csv, objects_csv);
   if (truth_.size() != files_.size()) {
-    throw std::invalid_argument(ego_csv + ": " + std::to_string(truth_.size()) + " frames, but " +
-                                frames_dir.string() + " holds " + std::to_string(files_.size()) + " frames");
+    throw core::FileError(ego_csv + ": " + std::to_string(truth_.size()) + " frames, but " +
+                          frames_dir.string() + " holds " + std::to_string(files_.size()) + " frames");
   }
   if (max_frames > 0 && static_cast<std::size_t>(max_frames) < files_.size()) {
     files_.resize(static_cast<std::size_t>(max_frames));
@@ -90,14 +91,14 @@ core::Frame DatasetSource::frame(std::size_t k) {
   core::Frame f = io::read_frame(file);
   layout_.check(f.scan, file);
   if (!f.truth) {
-    throw std::invalid_argument(file + ": no ground-truth fields (gt_range gt_v gt_vx gt_vy gt_vz instance moving); "
-                                "evaluation needs a simulated frame");
+    throw core::FileError(file + ": no ground-truth fields (gt_range gt_v gt_vx gt_vy gt_vz instance moving); "
+                          "evaluation needs a simulated frame");
   }
   const core::FrameTruth& t = truth_[k];
   // A frame from another dataset or run would be compared with the wrong truth: the stamps tell.
   if (std::abs(f.scan.stamp_s - t.stamp_s) > 1e-4) {
-    throw std::invalid_argument(file + ": stamp " + std::to_string(f.scan.stamp_s) + " s differs from ego.csv (" +
-                                std::to_string(t.stamp_s) + " s for frame " + std::to_string(k) + ")");
+    throw core::FileError(file + ": stamp " + std::to_string(f.scan.stamp_s) + " s differs from ego.csv (" +
+                          std::to_string(t.stamp_s) + " s for frame " + std::to_string(k) + ")");
   }
   f.frame_truth = t;
   return f;

@@ -4,6 +4,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "fmcw/core/errors.hpp"
+
 namespace fmcw::eval {
 
 namespace fs = std::filesystem;
@@ -39,7 +41,7 @@ std::unique_ptr<FrameSource> open_frame_source(const std::string& path, int max_
   const std::string ext = p.extension().string();
   if (ext == ".yaml" || ext == ".yml") {
     std::error_code ec;
-    if (!fs::is_regular_file(p, ec)) throw std::invalid_argument(path + ": file does not exist");
+    if (!fs::is_regular_file(p, ec)) throw core::FileError(path + ": file does not exist");
     return std::make_unique<ScenarioSource>(path, max_frames);
   }
   return std::make_unique<DatasetSource>(path, max_frames);

@@ -37,7 +37,7 @@ class FrameSource {
 
 /// A dataset folder: DIR/dataset.yaml (complete: true), DIR/frames/NNNNNN.pcd for frames
 /// 0..n-1, DIR/ego.csv and DIR/objects.csv with n frames. The constructor checks all of that
-/// and throws std::invalid_argument naming the file at fault; frame(k) reads one PCD and
+/// and throws core::FileError naming the file at fault; frame(k) reads one PCD and
 /// throws naming it when it is truncated, lacks ground truth, or has another shape or other
 /// heads than frame 0. max_frames > 0 keeps the first max_frames frames.
 class DatasetSource : public FrameSource {

@@ -54,7 +54,7 @@ struct DatasetHeader {
   std::string to_yaml() const;
   /// Reads DIR/dataset.yaml, the one reader of it (the writer's resume, a merge and the
   /// evaluation all use it). It is lenient about keys a newer writer may add, strict about what
-  /// it reads: std::invalid_argument naming file, line and key when it is not a dataset header this
+  /// it reads: core::FileError naming file, line and key when it is not a dataset header this
   /// tool wrote.
   static DatasetHeader read(const std::string& file);
 };
