@@ -17,9 +17,9 @@ constexpr std::int64_t kMaxPixels = std::int64_t{64} * 1024 * 1024;
 // refused with the size it would give, not an overflowed int.
 int whole_bins(double span_deg, double bin_deg, const char* span_name, const char* bin_name, const char* bins) {
   const double n = span_deg / bin_deg;
-  FMCW_CHECK_ARG(n <= static_cast<double>(kMaxPixels), "grid projection: ", bin_name, " ", bin_deg, " over ", span_name,
-                 " ", span_deg, " gives ", n, " ", bins, ", more than the ", kMaxPixels,
-                 " pixels a grid may have; choose a coarser resolution");
+  FMCW_CHECK_LIMIT(n <= static_cast<double>(kMaxPixels), "grid projection: ", bin_name, " ", bin_deg, " over ", span_name,
+                   " ", span_deg, " gives ", n, " ", bins, ", more than the ", kMaxPixels,
+                   " pixels a grid may have; choose a coarser resolution");
   FMCW_CHECK_ARG(std::abs(n - std::round(n)) < 1e-6 * std::max(1.0, n), "grid projection: ", span_name, " (",
                  span_deg, ") must be a whole multiple of ", bin_name, " (", bin_deg, ")");
   return static_cast<int>(std::round(n));
@@ -86,8 +86,8 @@ GridProjection project_to_grid(const PointList& points, const GridProjectionPara
   }
   const int cols = params.cols();
   const double pixels = static_cast<double>(rows) * static_cast<double>(cols);
-  FMCW_CHECK_ARG(pixels <= static_cast<double>(kMaxPixels), "grid projection: ", rows, " x ", cols, " pixels (", pixels,
-                 ") is more than the ", kMaxPixels, " a grid may have; choose a coarser resolution");
+  FMCW_CHECK_LIMIT(pixels <= static_cast<double>(kMaxPixels), "grid projection: ", rows, " x ", cols, " pixels (", pixels,
+                   ") is more than the ", kMaxPixels, " a grid may have; choose a coarser resolution");
 
   GridProjection out;
   out.stats.points = n;

@@ -29,10 +29,10 @@ void HeadModel::validate() const {
                  "': angular resolution must be > 0 deg, got ", deg(resolution_horizontal_rad), " x ",
                  deg(resolution_vertical_rad));
   const double pixels = (fov_horizontal_rad / resolution_horizontal_rad) * (fov_vertical_rad / resolution_vertical_rad);
-  FMCW_CHECK_ARG(pixels <= static_cast<double>(kMaxPixels), "head '", name, "': field of view ", deg(fov_horizontal_rad), " x ",
-                 deg(fov_vertical_rad), " deg at resolution ", deg(resolution_horizontal_rad), " x ",
-                 deg(resolution_vertical_rad), " deg gives ", pixels, " pixels, more than the ", kMaxPixels,
-                 " a head may have");
+  FMCW_CHECK_LIMIT(pixels <= static_cast<double>(kMaxPixels), "head '", name, "': field of view ", deg(fov_horizontal_rad), " x ",
+                   deg(fov_vertical_rad), " deg at resolution ", deg(resolution_horizontal_rad), " x ",
+                   deg(resolution_vertical_rad), " deg gives ", pixels, " pixels, more than the ", kMaxPixels,
+                   " a head may have");
   FMCW_CHECK_ARG(cols() >= 1 && rows() >= 1, "head '", name, "': field of view ",
                  deg(fov_horizontal_rad), " x ", deg(fov_vertical_rad), " deg at resolution ",
                  deg(resolution_horizontal_rad), " x ", deg(resolution_vertical_rad),

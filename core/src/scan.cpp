@@ -39,7 +39,7 @@ int Scan::head_of_col(int col) const {
   for (std::size_t h = 0; h < heads.size(); ++h) {
     if (col >= heads[h].col_begin && col < heads[h].col_end) return static_cast<int>(h);
   }
-  throw std::invalid_argument(concat("Scan: column ", col, " belongs to no head"));
+  throw InputError(concat("Scan: column ", col, " belongs to no head"));
 }
 
 Eigen::Vector3d Scan::beam_origin(std::size_t i) const {

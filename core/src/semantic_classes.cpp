@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "fmcw/core/errors.hpp"
+
 namespace fmcw::core {
 
 ClassTable ClassTable::builtin() {
@@ -22,10 +24,10 @@ ClassTable ClassTable::builtin() {
 void ClassTable::add(const std::string& name, std::uint64_t id) {
   // Class names are cells of CSV tables (objects.csv, the evaluation's tables) and lines of
   // YAML: printable, no comma or quote, short.
-  if (name.empty()) throw std::invalid_argument("class name is empty");
+  if (name.empty()) throw InputError("class name is empty");
   if (name.size() > kMaxClassNameLength) {
-    throw std::invalid_argument("class name '" + name.substr(0, 32) + "...' is longer than " +
-                                std::to_string(kMaxClassNameLength) + " characters");
+    throw InputError("class name '" + name.substr(0, 32) + "...' is longer than " +
+                     std::to_string(kMaxClassNameLength) + " characters");
   }
   for (const char c : name) {
     const auto u = static_cast<unsigned char>(c);
@@ -36,18 +38,18 @@ void ClassTable::add(const std::string& name, std::uint64_t id) {
         shown += v < 0x20 || v == 0x7f ? "\\x" + std::string(1, "0123456789abcdef"[v >> 4]) + "0123456789abcdef"[v & 15]
                                        : std::string(1, d);
       }
-      throw std::invalid_argument("class name '" + shown + "' holds " +
-                                  (c == ',' ? "a comma" : c == '"' ? "a double quote" : "a control character") +
-                                  ": class names are written into CSV tables; use letters, digits, spaces and _ - . /");
+      throw InputError("class name '" + shown + "' holds " +
+                       (c == ',' ? "a comma" : c == '"' ? "a double quote" : "a control character") +
+                       ": class names are written into CSV tables; use letters, digits, spaces and _ - . /");
     }
   }
   if (id == 0 || id > 65535) {
-    throw std::invalid_argument("class '" + name + "': id " + std::to_string(id) + " is not in [1, 65535]");
+    throw InputError("class '" + name + "': id " + std::to_string(id) + " is not in [1, 65535]");
   }
   for (const SemanticClass& c : classes_) {
-    if (c.name == name) throw std::invalid_argument("class '" + name + "' is defined already (id " + std::to_string(c.id) + ")");
+    if (c.name == name) throw InputError("class '" + name + "' is defined already (id " + std::to_string(c.id) + ")");
     if (c.id == id) {
-      throw std::invalid_argument("class '" + name + "': id " + std::to_string(id) + " is taken by class '" + c.name + "'");
+      throw InputError("class '" + name + "': id " + std::to_string(id) + " is taken by class '" + c.name + "'");
     }
   }
   classes_.push_back({static_cast<std::uint16_t>(id), name, 0});

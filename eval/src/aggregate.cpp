@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "fmcw/core/errors.hpp"
 #include "fmcw/eval/statistics.hpp"
 
 namespace fmcw::eval {
@@ -134,7 +135,7 @@ PooledMethod pool(const std::vector<DatasetDigest>& digests, const std::string& 
   for (const DatasetDigest& d : digests) {
     const auto it = std::find(d.methods.begin(), d.methods.end(), method);
     if (it == d.methods.end()) {
-      throw std::invalid_argument("pool: dataset '" + d.folder + "' was not evaluated with method '" + method + "'");
+      throw core::InputError("pool: dataset '" + d.folder + "' was not evaluated with method '" + method + "'");
     }
     const MethodDigest& md = d.per_method[static_cast<std::size_t>(it - d.methods.begin())];
     const MethodSummary& x = md.summary;

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "fmcw/core/errors.hpp"
 #include "fmcw/eval/table_writer.hpp"
 #include "fmcw/io/atomic_file.hpp"
 #include "report_json.hpp"
@@ -27,7 +28,7 @@ bool is_dataset_folder(const std::string& dir) {
 
 std::vector<DatasetFolder> find_datasets(const std::string& folder, std::vector<std::string>* notes) {
   std::error_code ec;
-  if (!fs::is_directory(folder, ec)) throw std::invalid_argument("'" + folder + "': not a folder");
+  if (!fs::is_directory(folder, ec)) throw core::FileError("'" + folder + "': not a folder");
   std::vector<DatasetFolder> found;
   std::vector<std::string> ignored;
   for (const auto& e : fs::directory_iterator(folder, ec)) {
@@ -39,11 +40,11 @@ std::vector<DatasetFolder> find_datasets(const std::string& folder, std::vector<
       ignored.push_back(name);
     }
   }
-  if (ec) throw std::runtime_error("'" + folder + "': cannot list: " + ec.message());
+  if (ec) throw core::FileError("'" + folder + "': cannot list: " + ec.message());
   if (found.empty()) {
-    throw std::invalid_argument((fs::path(folder) / "dataset.yaml").string() +
-                                ": missing, and no subfolder holds a dataset.yaml: '" + folder +
-                                "' is neither a dataset nor a folder of datasets written by `fmcw simulate`");
+    throw core::FileError((fs::path(folder) / "dataset.yaml").string() +
+                          ": missing, and no subfolder holds a dataset.yaml: '" + folder +
+                          "' is neither a dataset nor a folder of datasets written by `fmcw simulate`");
   }
   std::sort(found.begin(), found.end(), [](const DatasetFolder& a, const DatasetFolder& b) { return a.name < b.name; });
   std::sort(ignored.begin(), ignored.end());

@@ -67,7 +67,7 @@ EvaluationResult evaluate(FrameSource& source, const EvaluationParams& params, c
   for (std::size_t k = 0; k < n; ++k) {
     core::Frame frame = source.frame(k);
     if (!frame.truth || !frame.frame_truth) {
-      throw std::invalid_argument(source.describe(k) + ": frame carries no ground truth");
+      throw core::FileError(source.describe(k) + ": frame carries no ground truth");
     }
     std::vector<core::MotionEstimate> estimates;
     try {
@@ -75,8 +75,8 @@ EvaluationResult evaluate(FrameSource& source, const EvaluationParams& params, c
         estimates.push_back(pipelines[m].process(frame.scan, k));
         r.frames[m].push_back(evaluate_frame(k, frame, *frame.frame_truth, estimates.back(), params.objects, params.blind_band_mps));
       }
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(source.describe(k) + ": " + e.what());
+    } catch (const std::invalid_argument&) {
+      core::rethrow_as_file_error(source.describe(k) + ": ");  // the frame holds what the checks refuse
     }
     const FrameEvaluation& first = r.frames[0].back();
     r.dataset.valid_points += first.motion.total();

@@ -88,8 +88,8 @@ ObjectPointsStudyResult run_object_points_study(FrameSource& source, const Objec
           subsample_errors[c].push_back((a.estimate_mps - b.estimate_mps).norm());
         }
       }
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(source.describe(k) + ": " + e.what());
+    } catch (const std::invalid_argument&) {
+      core::rethrow_as_file_error(source.describe(k) + ": ");  // the frame holds what the checks refuse
     }
     ++r.frames_used;
     if (progress) progress(std::min(k + 1, n), n);

@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "fmcw/core/errors.hpp"
+
 namespace fmcw::eval {
 
 std::vector<std::vector<std::string>> parse_csv(const std::string& text, const std::string& name,
@@ -62,20 +64,20 @@ std::vector<std::vector<std::string>> parse_csv(const std::string& text, const s
       cell += c;
     }
   }
-  if (quoted) throw std::invalid_argument(name + ":" + std::to_string(row_line) + ": unterminated quoted cell");
+  if (quoted) throw core::FileError(name + ":" + std::to_string(row_line) + ": unterminated quoted cell");
   if (row_started) end_row();
   return rows;
 }
 
 ScenarioManifest read_scenario_manifest(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot read");
+  if (!in) throw core::FileError(path + ": cannot read");
   std::ostringstream buf;
   buf << in.rdbuf();
   std::vector<int> lines;
   std::vector<std::vector<std::string>> rows = parse_csv(buf.str(), path, &lines);
   const auto fail = [&](int line, const std::string& what) {
-    throw std::invalid_argument(path + ":" + std::to_string(line) + ": " + what);
+    throw core::FileError(path + ":" + std::to_string(line) + ": " + what);
   };
   if (rows.empty()) fail(1, "empty: expected a header with a 'name' column");
   ScenarioManifest m;

@@ -50,8 +50,8 @@ ThresholdStudyResult run_threshold_study(FrameSource& source, const ThresholdStu
       for (std::size_t t = 0; t < pipelines.size(); ++t) {
         frames[t].push_back(evaluate_frame(k, frame, *frame.frame_truth, pipelines[t].process(frame.scan, k), params.objects));
       }
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(source.describe(k) + ": " + e.what());
+    } catch (const std::invalid_argument&) {
+      core::rethrow_as_file_error(source.describe(k) + ": ");  // the frame holds what the checks refuse
     }
     ++r.frames_used;
     if (progress) progress(std::min(k + 1, n), n);

@@ -61,7 +61,7 @@ AevaLayout parse_aeva_layout(const std::string& text) {
   if (text == "auto") return AevaLayout::kAuto;
   if (text == "25") return AevaLayout::k25;
   if (text == "29") return AevaLayout::k29;
-  throw std::invalid_argument("Aeva record layout must be auto, 25 or 29, got '" + text + "'");
+  throw core::InputError("Aeva record layout must be auto, 25 or 29, got '" + text + "'");
 }
 
 AevaLayout detect_aeva_layout(const std::string& path, std::uintmax_t size_bytes) {
@@ -70,36 +70,36 @@ AevaLayout detect_aeva_layout(const std::string& path, std::uintmax_t size_bytes
   if (fits25 && !fits29) return AevaLayout::k25;
   if (fits29 && !fits25) return AevaLayout::k29;
   if (!fits25 && !fits29) {
-    throw std::invalid_argument(concat(path, ": size ", size_bytes,
-                                       " bytes is not a whole number of Aeva records: neither 25-byte (", size_bytes,
-                                       " mod 25 = ", size_bytes % kAevaRecordBytes, ") nor 29-byte (", size_bytes,
-                                       " mod 29 = ", size_bytes % kAevaRecordWithIntensityBytes,
-                                       "); the file is truncated or not an Aeva scan"));
+    throw core::FileError(concat(path, ": size ", size_bytes,
+                                 " bytes is not a whole number of Aeva records: neither 25-byte (", size_bytes,
+                                 " mod 25 = ", size_bytes % kAevaRecordBytes, ") nor 29-byte (", size_bytes,
+                                 " mod 29 = ", size_bytes % kAevaRecordWithIntensityBytes,
+                                 "); the file is truncated or not an Aeva scan"));
   }
   std::uint64_t stamp_ns = 0;
   if (stamp_from_name(path, stamp_ns)) {
     return stamp_ns > kIntensityFromStampNs ? AevaLayout::k29 : AevaLayout::k25;
   }
-  throw std::invalid_argument(concat(path, ": size ", size_bytes,
-                                     " bytes fits both 25- and 29-byte Aeva records and the name is not a time "
-                                     "stamp; give the layout (--aeva-record 25 or 29)"));
+  throw core::FileError(concat(path, ": size ", size_bytes,
+                               " bytes fits both 25- and 29-byte Aeva records and the name is not a time "
+                               "stamp; give the layout (--aeva-record 25 or 29)"));
 }
 
 AevaRecords read_aeva(const std::string& path, AevaLayout layout) {
   // The size decides the layout and the record count before a byte is read: a file of the wrong
   // size costs an error, not its size in memory.
   const std::uintmax_t size = regular_file_size(path, "Aeva file");
-  if (size == 0) throw std::invalid_argument(concat(path, ": empty Aeva file (no records)"));
+  if (size == 0) throw core::FileError(concat(path, ": empty Aeva file (no records)"));
   if (layout == AevaLayout::kAuto) layout = detect_aeva_layout(path, size);
   const std::size_t stride = record_bytes(layout);
   if (size % stride != 0) {
-    throw std::invalid_argument(concat(path, ": size ", size, " bytes is not a multiple of the ", stride,
-                                       "-byte Aeva record (", size / stride, " whole records and ", size % stride,
-                                       " bytes left over)"));
+    throw core::FileError(concat(path, ": size ", size, " bytes is not a multiple of the ", stride,
+                                 "-byte Aeva record (", size / stride, " whole records and ", size % stride,
+                                 " bytes left over)"));
   }
   const auto n = static_cast<std::size_t>(size / stride);
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(concat(path, ": cannot open Aeva file: ", std::strerror(errno)));
+  if (!in) throw core::FileError(concat(path, ": cannot open Aeva file: ", std::strerror(errno)));
   AevaRecords r;
   for (auto* column : {&r.x_m, &r.y_m, &r.z_m, &r.reflectivity, &r.velocity_mps}) column->resize(n);
   r.time_offset_ns.resize(n);
@@ -113,8 +113,8 @@ AevaRecords read_aeva(const std::string& path, AevaLayout layout) {
     const std::size_t count = std::min(kBlockRecords, n - first);
     in.read(reinterpret_cast<char*>(block.data()), static_cast<std::streamsize>(count * stride));
     if (static_cast<std::size_t>(in.gcount()) != count * stride) {
-      throw std::runtime_error(concat(path, ": read failed at byte ", first * stride + static_cast<std::size_t>(in.gcount()),
-                                      " of ", size, " (did the file change while it was read?)"));
+      throw core::FileError(concat(path, ": read failed at byte ", first * stride + static_cast<std::size_t>(in.gcount()),
+                                   " of ", size, " (did the file change while it was read?)"));
     }
     for (std::size_t i = first; i < first + count; ++i) {
       const unsigned char* p = block.data() + (i - first) * stride;
@@ -122,9 +122,9 @@ AevaRecords read_aeva(const std::string& path, AevaLayout layout) {
       for (int f = 0; f < 5; ++f) {
         *floats[f] = load_f32(p + 4 * f);
         if (!std::isfinite(*floats[f])) {
-          throw std::invalid_argument(concat(path, ": record ", i, " (byte ", i * stride + 4 * static_cast<std::size_t>(f),
-                                             "): field '", kFloatNames[f], "' is ", *floats[f],
-                                             ", expected a finite number"));
+          throw core::FileError(concat(path, ": record ", i, " (byte ", i * stride + 4 * static_cast<std::size_t>(f),
+                                       "): field '", kFloatNames[f], "' is ", *floats[f],
+                                       ", expected a finite number"));
         }
       }
       r.time_offset_ns[i] = static_cast<std::int32_t>(load_u32(p + 20));
@@ -132,8 +132,8 @@ AevaRecords read_aeva(const std::string& path, AevaLayout layout) {
       if (layout == AevaLayout::k29) {
         r.intensity[i] = load_f32(p + 25);
         if (!std::isfinite(r.intensity[i])) {
-          throw std::invalid_argument(concat(path, ": record ", i, " (byte ", i * stride + 25, "): field 'intensity' is ",
-                                             r.intensity[i], ", expected a finite number"));
+          throw core::FileError(concat(path, ": record ", i, " (byte ", i * stride + 25, "): field 'intensity' is ",
+                                       r.intensity[i], ", expected a finite number"));
         }
       }
     }
@@ -184,15 +184,16 @@ core::GridProjection read_aeva_scan(const std::string& path, const AevaScanParam
   const int lines = params.grid.lines;
   for (std::size_t i = 0; lines > 0 && i < records.size(); ++i) {
     if (records.line_index[i] >= lines) {
-      throw std::invalid_argument(concat(path, ": record ", i, ": line_index ", static_cast<int>(records.line_index[i]),
-                                         " is out of range [0, ", lines, ") (the sensor has ", lines, " lines)"));
+      throw core::FileError(concat(path, ": record ", i, ": line_index ", static_cast<int>(records.line_index[i]),
+                                   " is out of range [0, ", lines, ") (the sensor has ", lines, " lines)"));
     }
   }
   core::GridProjection projection;
+  params.grid.validate();  // a bad option is the caller's error (InputError), not the file's
   try {
     projection = core::project_to_grid(aeva_points(records, params.negate_velocity), params.grid);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(concat(path, ": ", e.what()));
+  } catch (const std::exception&) {
+    core::rethrow_as_file_error(concat(path, ": "));  // a bad record is the file's
   }
   std::uint64_t stamp_ns = 0;
   if (stamp_from_name(path, stamp_ns)) projection.scan.stamp_s = static_cast<double>(stamp_ns) * 1e-9;

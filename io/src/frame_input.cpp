@@ -14,7 +14,7 @@ InputFormat parse_input_format(const std::string& text) {
   if (text == "pcd") return InputFormat::kPcd;
   if (text == "points") return InputFormat::kPoints;
   if (text == "aeva") return InputFormat::kAeva;
-  throw std::invalid_argument("input format must be pcd, points or aeva, got '" + text + "'");
+  throw core::InputError("input format must be pcd, points or aeva, got '" + text + "'");
 }
 
 const std::vector<std::string>& input_format_names() {
@@ -30,7 +30,7 @@ core::PointList points_from_pcd(const PcdCloud& cloud, const std::string& source
   check_single_count(cloud, {"x", "y", "z", "v", "intensity", "t"}, source, "points need");
   for (const char* required : {"x", "y", "z", "v"}) {
     if (cloud.find(required) == nullptr) {
-      throw std::invalid_argument(concat(source, ": missing field '", required, "' (points need x y z v)"));
+      throw core::FileError(concat(source, ": missing field '", required, "' (points need x y z v)"));
     }
   }
   const auto& x = cloud.find("x")->values;
@@ -45,8 +45,8 @@ core::PointList points_from_pcd(const PcdCloud& cloud, const std::string& source
     if (!(std::isfinite(x[i]) && std::isfinite(y[i]) && std::isfinite(z[i]))) continue;
     for (const PcdField* f : {cloud.find("v"), intensity, t}) {
       if (f && !std::isfinite(f->values[i])) {
-        throw std::invalid_argument(concat(source, ": point ", i, " has finite x y z but field '", f->name, "' is ",
-                                           f->values[i]));
+        throw core::FileError(concat(source, ": point ", i, " has finite x y z but field '", f->name, "' is ",
+                                     f->values[i]));
       }
     }
     points.x_m.push_back(static_cast<float>(x[i]));
@@ -56,7 +56,7 @@ core::PointList points_from_pcd(const PcdCloud& cloud, const std::string& source
     if (intensity) points.intensity.push_back(static_cast<float>(intensity->values[i]));
     if (t) points.time_offset_s.push_back(static_cast<float>(t->values[i]));
   }
-  if (points.size() == 0) throw std::invalid_argument(concat(source, ": no point with finite x y z"));
+  if (points.size() == 0) throw core::FileError(concat(source, ": no point with finite x y z"));
   return points;
 }
 
@@ -82,10 +82,11 @@ InputFrame read_input_frame(const std::string& path, const InputOptions& options
     if (options.negate_velocity) {
       for (float& v : points.radial_velocity_mps) v = -v;
     }
+    options.grid.validate();  // a bad option is the caller's error (InputError), not the file's
     try {
       projection = core::project_to_grid(points, options.grid);
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(concat(path, ": ", e.what()));
+    } catch (const std::exception&) {
+      core::rethrow_as_file_error(concat(path, ": "));  // a bad point is the file's
     }
   }
   out.frame.scan = std::move(projection.scan);

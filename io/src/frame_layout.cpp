@@ -46,22 +46,22 @@ void FrameLayoutCheck::check(const core::Scan& scan, const std::string& file) {
     return;
   }
   if (scan.rows != rows_ || scan.cols != cols_ || !same_spans(scan.heads, heads_)) {
-    throw std::invalid_argument(concat(file, ": ", describe(scan.rows, scan.cols, scan.heads), " differs from ",
-                                       first_file_, ", the first frame: ", describe(rows_, cols_, heads_), kOneRig));
+    throw core::FileError(concat(file, ": ", describe(scan.rows, scan.cols, scan.heads), " differs from ",
+                                 first_file_, ", the first frame: ", describe(rows_, cols_, heads_), kOneRig));
   }
   for (std::size_t h = 0; h < heads_.size(); ++h) {
     const core::HeadInfo& head = scan.heads[h];
     const core::HeadInfo& first = heads_[h];
     const std::string which = concat(file, ": head '", head.name, "' [", head.col_begin, ", ", head.col_end, ")");
     if (head.stitched_to_next != first.stitched_to_next) {
-      throw std::invalid_argument(concat(which, " is ", head.stitched_to_next ? "" : "not ",
-                                         "stitched to the next where the first frame's is",
-                                         first.stitched_to_next ? "" : " not", " (", first_file_, ")", kOneRig));
+      throw core::FileError(concat(which, " is ", head.stitched_to_next ? "" : "not ",
+                                   "stitched to the next where the first frame's is",
+                                   first.stitched_to_next ? "" : " not", " (", first_file_, ")", kOneRig));
     }
     const double pose_difference = (head.T_rig_head.matrix() - first.T_rig_head.matrix()).cwiseAbs().maxCoeff();
     if (!(pose_difference <= kPoseTolerance)) {
-      throw std::invalid_argument(concat(which, " is mounted at ", describe_pose(head), " where the first frame's is at ",
-                                         describe_pose(first), " (", first_file_, ")", kOneRig));
+      throw core::FileError(concat(which, " is mounted at ", describe_pose(head), " where the first frame's is at ",
+                                   describe_pose(first), " (", first_file_, ")", kOneRig));
     }
   }
 }

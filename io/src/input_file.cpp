@@ -26,16 +26,16 @@ std::uintmax_t regular_file_size(const std::string& path, const std::string& wha
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);  // follows symbolic links
   if (ec || status.type() == fs::file_type::not_found) {
-    throw std::invalid_argument(concat(path, ": cannot open ", what, ": ",
-                                       ec ? ec.message() : std::string("No such file or directory")));
+    throw core::FileError(concat(path, ": cannot open ", what, ": ",
+                                 ec ? ec.message() : std::string("No such file or directory")));
   }
-  if (status.type() == fs::file_type::directory) throw std::invalid_argument(concat(path, ": is a directory, not a ", what));
+  if (status.type() == fs::file_type::directory) throw core::FileError(concat(path, ": is a directory, not a ", what));
   if (status.type() != fs::file_type::regular) {
-    throw std::invalid_argument(concat(path, ": is not a regular file (", kind_of(status.type()), "); ", what,
-                                       "s are read from regular files only"));
+    throw core::FileError(concat(path, ": is not a regular file (", kind_of(status.type()), "); ", what,
+                                 "s are read from regular files only"));
   }
   const std::uintmax_t size = fs::file_size(path, ec);
-  if (ec) throw std::runtime_error(concat(path, ": cannot read the size of the ", what, ": ", ec.message()));
+  if (ec) throw core::FileError(concat(path, ": cannot read the size of the ", what, ": ", ec.message()));
   return size;
 }
 

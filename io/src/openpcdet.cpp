@@ -23,7 +23,7 @@ constexpr std::size_t kPointColumns = 5;  // x y z intensity v
 const PcdField& require(const PcdCloud& cloud, const char* name, const std::string& where) {
   const PcdField* f = cloud.find(name);
   if (!f) {
-    throw std::invalid_argument(concat(where, ": no field '", name, "' for OpenPCDet's points (x y z intensity v)"));
+    throw core::FileError(concat(where, ": no field '", name, "' for OpenPCDet's points (x y z intensity v)"));
   }
   return *f;
 }
@@ -51,15 +51,15 @@ std::string openpcdet_labels(const core::FrameTruth& truth, const std::string& w
     const std::string& name = a->class_name;
     if (name.empty() ||
         std::any_of(name.begin(), name.end(), [](char c) { return std::isspace(static_cast<unsigned char>(c)); })) {
-      throw std::invalid_argument(concat(where, ": actor ", a->id, ": class name '", name,
-                                         "' cannot be a label's last column (empty or with white space)"));
+      throw core::FileError(concat(where, ": actor ", a->id, ": class name '", name,
+                                   "' cannot be a label's last column (empty or with white space)"));
     }
     const core::BoxTruth& b = a->box;
     const double values[] = {b.center_m.x(), b.center_m.y(), b.center_m.z(), b.size_m.x(),
                              b.size_m.y(),   b.size_m.z(),   b.yaw_rad};
     for (const double v : values) {
       if (!std::isfinite(v)) {
-        throw std::invalid_argument(concat(where, ": actor ", a->id, ": box value ", v, " is not finite"));
+        throw core::FileError(concat(where, ": actor ", a->id, ": box value ", v, " is not finite"));
       }
       out << v << ' ';
     }
@@ -82,8 +82,8 @@ std::size_t write_openpcdet_frame(const std::string& points_path, const std::str
     if (!has_return) continue;
     const double remission = intensity ? intensity->values[i] : 0.0;
     if (!std::isfinite(remission) || !std::isfinite(v.values[i])) {
-      throw std::invalid_argument(
-          concat(where, ": point ", i, " has a return but intensity ", remission, " and v ", v.values[i]));
+      throw core::FileError(
+    concat(where, ": point ", i, " has a return but intensity ", remission, " and v ", v.values[i]));
     }
     for (const double value : {x.values[i], y.values[i], z.values[i], remission, v.values[i]}) {
       points.push_back(static_cast<float>(value));

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "fmcw/core/errors.hpp"
 #include "fmcw/io/atomic_file.hpp"
 
 namespace fmcw::io {
@@ -46,12 +47,12 @@ void refuse_output_over_inputs(const std::string& output, const std::vector<std:
     if (is_file) {
       // Beside the file a same-named output could replace it; a folder below it is another place.
       if (out == in.parent_path()) {
-        throw std::invalid_argument("output '" + output + "' is the input file's folder '" + in.parent_path().string() +
-                                    "': writing there could replace the input; choose an output folder outside it");
+        throw core::InputError("output '" + output + "' is the input file's folder '" + in.parent_path().string() +
+                               "': writing there could replace the input; choose an output folder outside it");
       }
     } else if (within(out, in)) {
-      throw std::invalid_argument("output '" + output + "' " + (out == in ? "is" : "lies inside") + " the input '" +
-                                  input + "': writing there could replace the input; choose an output folder outside it");
+      throw core::InputError("output '" + output + "' " + (out == in ? "is" : "lies inside") + " the input '" +
+                             input + "': writing there could replace the input; choose an output folder outside it");
     }
   }
 }

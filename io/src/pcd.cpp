@@ -87,8 +87,8 @@ int parse_int(const std::string& s, const std::string& where) {
   } catch (const std::exception&) {
     used = 0;
   }
-  FMCW_CHECK_ARG(used == s.size() && v >= 0 && v <= std::numeric_limits<int>::max(), where,
-                 ": expected a non-negative integer, got '", s, "'");
+  FMCW_CHECK_FILE(used == s.size() && v >= 0 && v <= std::numeric_limits<int>::max(), where,
+                  ": expected a non-negative integer, got '", s, "'");
   return static_cast<int>(v);
 }
 
@@ -148,7 +148,7 @@ class BlockReader {
     end_ = held + static_cast<std::size_t>(in_.gcount());
     in_.clear(in_.rdstate() & ~(std::ios::eofbit | std::ios::failbit));  // a short last block is fine
     // The size was checked before the body was read: a shortfall is a file that changed meanwhile.
-    if (end_ < k) throw std::runtime_error(concat(path_, ": read error in PCD data (did the file change while it was read?)"));
+    if (end_ < k) throw core::FileError(concat(path_, ": read error in PCD data (did the file change while it was read?)"));
   }
 
   std::istream& in_;
@@ -170,7 +170,7 @@ const PcdField* PcdCloud::find(const std::string& name) const {
 PcdCloud read_pcd(const std::string& path) {
   regular_file_size(path, "PCD file");  // before opening: a FIFO would block, /dev/zero never ends
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::invalid_argument(concat(path, ": cannot open PCD file: ", std::strerror(errno)));
+  if (!in) throw core::FileError(concat(path, ": cannot open PCD file: ", std::strerror(errno)));
 
   PcdCloud cloud;
   std::vector<RawField> raw;
@@ -184,11 +184,11 @@ PcdCloud read_pcd(const std::string& path) {
   for (LineRead got; (got = read_bounded_line(in, line, kMaxHeaderLineBytes)) != LineRead::kEnd;) {
     ++line_no;
     if (got == LineRead::kTooLong) {
-      throw std::invalid_argument(concat(path, ":", line_no, ": header line too long; not a PCD file?"));
+      throw core::FileError(concat(path, ":", line_no, ": header line too long; not a PCD file?"));
     }
     header_bytes += line.size() + 1;
-    FMCW_CHECK_ARG(header_bytes <= kMaxHeaderBytes, path, ":", line_no, ": header longer than ", kMaxHeaderBytes,
-                   " bytes without a DATA line; not a PCD file?");
+    FMCW_CHECK_FILE(header_bytes <= kMaxHeaderBytes, path, ":", line_no, ": header longer than ", kMaxHeaderBytes,
+                    " bytes without a DATA line; not a PCD file?");
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) continue;
     if (line[0] == '#') {
@@ -201,26 +201,26 @@ PcdCloud read_pcd(const std::string& path) {
     words.erase(words.begin());
     static const char* known[] = {"VERSION", "FIELDS", "SIZE", "TYPE", "COUNT", "WIDTH", "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
     if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return key == k; }) == std::end(known)) {
-      throw std::invalid_argument(concat(path, ":", line_no, ": unknown PCD header key '", key, "'"));
+      throw core::FileError(concat(path, ":", line_no, ": unknown PCD header key '", key, "'"));
     }
-    if (header.count(key)) throw std::invalid_argument(concat(path, ":", line_no, ": header key '", key, "' given twice"));
+    if (header.count(key)) throw core::FileError(concat(path, ":", line_no, ": header key '", key, "' given twice"));
     header[key] = words;
     header_line[key] = line_no;
     if (key == "DATA") {
-      FMCW_CHECK_ARG(words.size() == 1, path, ":", line_no, ": DATA takes one word");
+      FMCW_CHECK_FILE(words.size() == 1, path, ":", line_no, ": DATA takes one word");
       data_kind = words[0];
       break;
     }
   }
   for (const char* key : required) {
-    if (!header.count(key)) throw std::invalid_argument(concat(path, ": PCD header has no ", key, " line (read ", line_no, " lines)"));
+    if (!header.count(key)) throw core::FileError(concat(path, ": PCD header has no ", key, " line (read ", line_no, " lines)"));
   }
   const auto where = [&](const std::string& key) { return concat(path, ":", header_line[key], ": ", key); };
   const auto& names = header["FIELDS"];
-  FMCW_CHECK_ARG(!names.empty(), where("FIELDS"), " lists no fields");
+  FMCW_CHECK_FILE(!names.empty(), where("FIELDS"), " lists no fields");
   const auto expect_len = [&](const std::string& key) {
-    FMCW_CHECK_ARG(header[key].size() == names.size(), where(key), " has ", header[key].size(),
-                   " entries but FIELDS has ", names.size());
+    FMCW_CHECK_FILE(header[key].size() == names.size(), where(key), " has ", header[key].size(),
+                    " entries but FIELDS has ", names.size());
   };
   expect_len("SIZE");
   expect_len("TYPE");
@@ -229,26 +229,26 @@ PcdCloud read_pcd(const std::string& path) {
     RawField rf;
     rf.name = names[f];
     rf.size = parse_int(header["SIZE"][f], where("SIZE"));
-    FMCW_CHECK_ARG(header["TYPE"][f].size() == 1, where("TYPE"), ": type '", header["TYPE"][f], "' of field '", rf.name,
-                   "' is not one of F, U, I");
+    FMCW_CHECK_FILE(header["TYPE"][f].size() == 1, where("TYPE"), ": type '", header["TYPE"][f], "' of field '", rf.name,
+                    "' is not one of F, U, I");
     rf.type = header["TYPE"][f][0];
     rf.count = header.count("COUNT") ? parse_int(header["COUNT"][f], where("COUNT")) : 1;
-    FMCW_CHECK_ARG(valid_type_size(rf.type, rf.size), where("TYPE"), ": field '", rf.name, "' has TYPE ", rf.type,
-                   " with SIZE ", rf.size, " (F takes 4 or 8; U and I take 1, 2, 4 or 8)");
-    FMCW_CHECK_ARG(rf.count >= 1, where("COUNT"), ": field '", rf.name, "' has COUNT 0");
+    FMCW_CHECK_FILE(valid_type_size(rf.type, rf.size), where("TYPE"), ": field '", rf.name, "' has TYPE ", rf.type,
+                    " with SIZE ", rf.size, " (F takes 4 or 8; U and I take 1, 2, 4 or 8)");
+    FMCW_CHECK_FILE(rf.count >= 1, where("COUNT"), ": field '", rf.name, "' has COUNT 0");
     for (const auto& other : raw) {
-      FMCW_CHECK_ARG(other.name != rf.name || rf.name == "_", where("FIELDS"), ": field '", rf.name, "' appears twice");
+      FMCW_CHECK_FILE(other.name != rf.name || rf.name == "_", where("FIELDS"), ": field '", rf.name, "' appears twice");
     }
     raw.push_back(rf);
   }
-  FMCW_CHECK_ARG(header["WIDTH"].size() == 1 && header["HEIGHT"].size() == 1 && header["POINTS"].size() == 1,
-                 path, ": WIDTH, HEIGHT and POINTS take one number each");
+  FMCW_CHECK_FILE(header["WIDTH"].size() == 1 && header["HEIGHT"].size() == 1 && header["POINTS"].size() == 1,
+                  path, ": WIDTH, HEIGHT and POINTS take one number each");
   cloud.width = parse_int(header["WIDTH"][0], where("WIDTH"));
   cloud.height = parse_int(header["HEIGHT"][0], where("HEIGHT"));
   const int points = parse_int(header["POINTS"][0], where("POINTS"));
-  FMCW_CHECK_ARG(static_cast<std::size_t>(points) == cloud.points(), where("POINTS"), " is ", points,
-                 " but WIDTH x HEIGHT is ", cloud.width, " x ", cloud.height, " = ", cloud.points());
-  FMCW_CHECK_ARG(cloud.points() <= (std::size_t{1} << 31), where("POINTS"), " is too large: ", cloud.points());
+  FMCW_CHECK_FILE(static_cast<std::size_t>(points) == cloud.points(), where("POINTS"), " is ", points,
+                  " but WIDTH x HEIGHT is ", cloud.width, " x ", cloud.height, " = ", cloud.points());
+  FMCW_CHECK_LIMIT(cloud.points() <= (std::size_t{1} << 31), where("POINTS"), " is too large: ", cloud.points());
 
   std::size_t stride = 0;
   std::size_t tokens_per_point = 0;
@@ -259,8 +259,8 @@ PcdCloud read_pcd(const std::string& path) {
   const std::size_t n = cloud.points();
   // COUNT may be up to 2^31 per field: sizes are bounded before they are multiplied.
   const std::size_t limit = static_cast<std::size_t>(std::numeric_limits<std::int64_t>::max() / 4);
-  FMCW_CHECK_ARG(n == 0 || (stride <= limit / n && tokens_per_point <= limit / n), where("POINTS"), ": ", n,
-                 " points of ", stride, " bytes is more data than a file can hold");
+  FMCW_CHECK_LIMIT(n == 0 || (stride <= limit / n && tokens_per_point <= limit / n), where("POINTS"), ": ", n,
+                   " points of ", stride, " bytes is more data than a file can hold");
   const std::streampos data_begin = in.tellg();
   in.seekg(0, std::ios::end);
   const std::streamoff available = in.tellg() - data_begin;
@@ -270,20 +270,20 @@ PcdCloud read_pcd(const std::string& path) {
   constexpr std::streamoff kMaxPclPadding = 65536;
   if (data_kind == "binary") {
     const auto needed = static_cast<std::streamoff>(n * stride);
-    FMCW_CHECK_ARG(available >= needed, path, ": truncated PCD: header promises ", n, " points of ", stride,
-                   " bytes (", needed, " bytes) but the file holds ", available, " bytes of data");
+    FMCW_CHECK_FILE(available >= needed, path, ": truncated PCD: header promises ", n, " points of ", stride,
+                    " bytes (", needed, " bytes) but the file holds ", available, " bytes of data");
     // PCL's own writer pads binary files with zeros to a memory page past the data; any other
     // surplus means the header does not describe the data (the zeros are checked once read).
-    FMCW_CHECK_ARG(available - needed < kMaxPclPadding, path, ": PCD data is ", available,
-                   " bytes but the header describes ", needed, " (", n, " points of ", stride,
-                   " bytes); the header does not match the data");
+    FMCW_CHECK_FILE(available - needed < kMaxPclPadding, path, ": PCD data is ", available,
+                    " bytes but the header describes ", needed, " (", n, " points of ", stride,
+                    " bytes); the header does not match the data");
   } else if (data_kind == "ascii") {
     // Every value takes at least one character and one separator.
     const auto needed = static_cast<std::streamoff>(n * tokens_per_point * 2);
-    FMCW_CHECK_ARG(available + 1 >= needed, path, ": truncated PCD: header promises ", n, " points of ", tokens_per_point,
-                   " values but only ", available, " bytes follow the header");
+    FMCW_CHECK_FILE(available + 1 >= needed, path, ": truncated PCD: header promises ", n, " points of ", tokens_per_point,
+                    " values but only ", available, " bytes follow the header");
   } else {
-    throw std::invalid_argument(concat(where("DATA"), " '", data_kind, "' is not supported (use binary or ascii)"));
+    throw core::FileError(concat(where("DATA"), " '", data_kind, "' is not supported (use binary or ascii)"));
   }
   for (const auto& rf : raw) {
     if (rf.name == "_") continue;
@@ -310,22 +310,22 @@ PcdCloud read_pcd(const std::string& path) {
     }
     const auto padding = static_cast<std::size_t>(available) - needed;  // under kMaxPclPadding
     const unsigned char* pad = body.take(padding);
-    FMCW_CHECK_ARG(std::all_of(pad, pad + padding, [](unsigned char b) { return b == 0; }), path, ": PCD data is ",
-                   available, " bytes but the header describes ", needed, " (", n, " points of ", stride,
-                   " bytes); the header does not match the data");
+    FMCW_CHECK_FILE(std::all_of(pad, pad + padding, [](unsigned char b) { return b == 0; }), path, ": PCD data is ",
+                    available, " bytes but the header describes ", needed, " (", n, " points of ", stride,
+                    " bytes); the header does not match the data");
   } else {  // ascii
     const std::size_t max_line = kMaxHeaderLineBytes + kMaxAsciiValueBytes * tokens_per_point;
     for (std::size_t i = 0; i < n; ++i) {
       const LineRead got = read_bounded_line(in, line, max_line);
       if (got == LineRead::kEnd) {
-        throw std::invalid_argument(concat(path, ": truncated PCD: header promises ", n, " points, file ends after ", i));
+        throw core::FileError(concat(path, ": truncated PCD: header promises ", n, " points, file ends after ", i));
       }
       ++line_no;
-      FMCW_CHECK_ARG(got == LineRead::kLine, path, ":", line_no, ": point ", i, ": line longer than ", max_line,
-                     " bytes for ", tokens_per_point, " values; the data does not match the header");
+      FMCW_CHECK_FILE(got == LineRead::kLine, path, ":", line_no, ": point ", i, ": line longer than ", max_line,
+                      " bytes for ", tokens_per_point, " values; the data does not match the header");
       const auto words = split_words(line);
-      FMCW_CHECK_ARG(words.size() == tokens_per_point, path, ":", line_no, ": point ", i, " has ", words.size(),
-                     " values, expected ", tokens_per_point);
+      FMCW_CHECK_FILE(words.size() == tokens_per_point, path, ":", line_no, ": point ", i, " has ", words.size(),
+                      " values, expected ", tokens_per_point);
       std::size_t t = 0;
       std::size_t out_field = 0;
       for (const auto& rf : raw) {
@@ -333,8 +333,8 @@ PcdCloud read_pcd(const std::string& path) {
           const std::string& w = words[t];
           char* end = nullptr;
           const double v = std::strtod(w.c_str(), &end);
-          FMCW_CHECK_ARG(end != nullptr && *end == '\0', path, ":", line_no, ": field '", rf.name, "' of point ", i,
-                         " is not a number: '", w, "'");
+          FMCW_CHECK_FILE(end != nullptr && *end == '\0', path, ":", line_no, ": field '", rf.name, "' of point ", i,
+                          " is not a number: '", w, "'");
           cloud.fields[out_field++].values[i] = v;
         }
         t += static_cast<std::size_t>(rf.count);
@@ -382,7 +382,7 @@ void check_single_count(const PcdCloud& cloud, const std::vector<std::string>& n
                         const std::string& reader) {
   for (const auto& [name, count] : cloud.multi_count_fields) {
     if (std::find(names.begin(), names.end(), name) != names.end()) {
-      throw std::invalid_argument(concat(source, ": field '", name, "' has COUNT ", count, "; ", reader, " COUNT 1"));
+      throw core::FileError(concat(source, ": field '", name, "' has COUNT ", count, "; ", reader, " COUNT 1"));
     }
   }
 }
@@ -396,7 +396,7 @@ double stamp_from_comments(const PcdCloud& cloud, const std::string& source) {
     stamp_s = w.size() == 2 ? std::strtod(w[1].c_str(), &end) : 0.0;
     // A NaN or Inf stamp would make every frame interval NaN and start tracking over quietly.
     if (end == nullptr || *end != '\0' || !std::isfinite(stamp_s)) {
-      throw std::invalid_argument(concat(source, ": comment '# ", c, "': the stamp must be a finite number of seconds"));
+      throw core::FileError(concat(source, ": comment '# ", c, "': the stamp must be a finite number of seconds"));
     }
   }
   return stamp_s;
@@ -414,17 +414,17 @@ core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source) {
     if (std::find(known.begin(), known.end(), f.name) == known.end()) {
       std::string list;
       for (const auto& k : known) list += (list.empty() ? "" : " ") + k;
-      throw std::invalid_argument(concat(source, ": unknown field '", f.name, "' (known: ", list, ")"));
+      throw core::FileError(concat(source, ": unknown field '", f.name, "' (known: ", list, ")"));
     }
   }
   check_single_count(cloud, known_frame_fields(), source, "a frame's fields must have");
   for (const char* required : {"x", "y", "z", "v"}) {
-    FMCW_CHECK_ARG(cloud.find(required) != nullptr, source, ": missing field '", required,
-                   "' (a frame needs at least x y z v)");
+    FMCW_CHECK_FILE(cloud.find(required) != nullptr, source, ": missing field '", required,
+                    "' (a frame needs at least x y z v)");
   }
-  FMCW_CHECK_ARG(cloud.points() > 0, source, ": the cloud has no points (WIDTH ", cloud.width, ", HEIGHT ", cloud.height, ")");
-  FMCW_CHECK_ARG(cloud.height > 1, source, ": the cloud is not organized (HEIGHT 1, WIDTH ", cloud.width,
-                 "); Doppler region growing needs a range image: project it onto a grid first");
+  FMCW_CHECK_FILE(cloud.points() > 0, source, ": the cloud has no points (WIDTH ", cloud.width, ", HEIGHT ", cloud.height, ")");
+  FMCW_CHECK_FILE(cloud.height > 1, source, ": the cloud is not organized (HEIGHT 1, WIDTH ", cloud.width,
+                  "); Doppler region growing needs a range image: project it onto a grid first");
 
   core::Frame frame;
   core::Scan& scan = frame.scan;
@@ -434,8 +434,8 @@ core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source) {
   for (const auto& c : cloud.comments) {
     const auto w = split_words(c);
     if (!w.empty() && w[0] == "fmcw_head") {
-      FMCW_CHECK_ARG(w.size() == 12, source, ": comment '# ", c,
-                     "': expected fmcw_head NAME COL_BEGIN COL_END STITCHED TX TY TZ QW QX QY QZ");
+      FMCW_CHECK_FILE(w.size() == 12, source, ": comment '# ", c,
+                      "': expected fmcw_head NAME COL_BEGIN COL_END STITCHED TX TY TZ QW QX QY QZ");
       core::HeadInfo head;
       head.name = w[1];
       head.col_begin = parse_int(w[2], source + ": fmcw_head col_begin");
@@ -445,13 +445,13 @@ core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source) {
       for (int k = 0; k < 7; ++k) {
         char* end = nullptr;
         v[k] = std::strtod(w[5 + static_cast<std::size_t>(k)].c_str(), &end);
-        FMCW_CHECK_ARG(end && *end == '\0' && std::isfinite(v[k]), source, ": comment '# ", c, "': value ", k + 5,
-                       " is not a finite number");
+        FMCW_CHECK_FILE(end && *end == '\0' && std::isfinite(v[k]), source, ": comment '# ", c, "': value ", k + 5,
+                        " is not a finite number");
       }
       head.T_rig_head = Eigen::Isometry3d::Identity();
       head.T_rig_head.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
       const Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);
-      FMCW_CHECK_ARG(std::abs(q.norm() - 1.0) < 1e-6, source, ": fmcw_head '", head.name, "' rotation is not a unit quaternion");
+      FMCW_CHECK_FILE(std::abs(q.norm() - 1.0) < 1e-6, source, ": fmcw_head '", head.name, "' rotation is not a unit quaternion");
       head.T_rig_head.linear() = q.toRotationMatrix();
       scan.heads.push_back(head);
     }
@@ -466,7 +466,7 @@ core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source) {
     // Head spans must tile the columns; reuse the scan's own check on an all-invalid scan.
     scan.validate();
   } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(concat(source, ": ", e.what()));
+    throw core::FileError(concat(source, ": ", e.what()));
   }
   const std::vector<double>& x = cloud.find("x")->values;
   const std::vector<double>& y = cloud.find("y")->values;
@@ -477,7 +477,7 @@ core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source) {
   if (const PcdField* t = cloud.find("t")) {
     scan.time_offset_s.resize(scan.size());
     for (std::size_t i = 0; i < scan.size(); ++i) {
-      FMCW_CHECK_ARG(std::isfinite(t->values[i]), source, ": point ", i, " has a NaN or Inf time offset 't'");
+      FMCW_CHECK_FILE(std::isfinite(t->values[i]), source, ": point ", i, " has a NaN or Inf time offset 't'");
       scan.time_offset_s[i] = static_cast<float>(t->values[i]);
     }
   }
@@ -489,7 +489,7 @@ core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source) {
     for (const char* g : gt_names) {
       if (!cloud.find(g)) missing += (missing.empty() ? "" : " ") + std::string(g);
     }
-    throw std::invalid_argument(concat(source, ": ground truth is incomplete, missing field(s): ", missing));
+    throw core::FileError(concat(source, ": ground truth is incomplete, missing field(s): ", missing));
   }
   std::vector<Eigen::Vector3d> origin(static_cast<std::size_t>(scan.cols));
   for (const auto& head : scan.heads) {
@@ -501,11 +501,11 @@ core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source) {
       const bool any_nan = std::isnan(x[i]) || std::isnan(y[i]) || std::isnan(z[i]);
       if (any_nan) continue;  // no return
       const auto bad = [&](const char* field) {
-        return std::invalid_argument(concat(source, ": point (row ", r, ", col ", c, ") has finite x y z but a NaN or Inf '",
-                                            field, "'"));
+        return core::FileError(concat(source, ": point (row ", r, ", col ", c, ") has finite x y z but a NaN or Inf '",
+                                      field, "'"));
       };
       if (!std::isfinite(x[i]) || !std::isfinite(y[i]) || !std::isfinite(z[i])) {
-        throw std::invalid_argument(concat(source, ": point (row ", r, ", col ", c, ") has an infinite coordinate"));
+        throw core::FileError(concat(source, ": point (row ", r, ", col ", c, ") has an infinite coordinate"));
       }
       if (!std::isfinite(v[i])) throw bad("v");
       scan.x_m[i] = static_cast<float>(x[i]);
@@ -522,8 +522,8 @@ core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source) {
         if (!std::isfinite(intensity->values[i])) throw bad("intensity");
         scan.intensity[i] = static_cast<float>(intensity->values[i]);
       }
-      FMCW_CHECK_ARG(scan.range_m[i] > 0.0f, source, ": point (row ", r, ", col ", c, ") has range ", scan.range_m[i],
-                     " <= 0");
+      FMCW_CHECK_FILE(scan.range_m[i] > 0.0f, source, ": point (row ", r, ", col ", c, ") has range ", scan.range_m[i],
+                      " <= 0");
       scan.valid[i] = 1;
     }
   }
@@ -541,16 +541,16 @@ core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source) {
     const auto& inst = cloud.find("instance")->values;
     const auto& mov = cloud.find("moving")->values;
     for (std::size_t i = 0; i < scan.size(); ++i) {
-      FMCW_CHECK_ARG(inst[i] >= 0 && inst[i] <= 4294967295.0 && mov[i] >= 0 && mov[i] <= 1, source, ": point ", i,
-                     " has instance ", inst[i], " / moving ", mov[i], " out of range");
+      FMCW_CHECK_FILE(inst[i] >= 0 && inst[i] <= 4294967295.0 && mov[i] >= 0 && mov[i] <= 1, source, ": point ", i,
+                      " has instance ", inst[i], " / moving ", mov[i], " out of range");
       gt.instance[i] = static_cast<std::uint32_t>(inst[i]);
       gt.moving[i] = static_cast<std::uint8_t>(mov[i]);
     }
     // The semantic class: datasets written before it have none.
     if (const PcdField* cls = cloud.find("class")) {
       for (std::size_t i = 0; i < scan.size(); ++i) {
-        FMCW_CHECK_ARG(cls->values[i] >= 0 && cls->values[i] <= 65535.0, source, ": point ", i, " has class ", cls->values[i],
-                       " out of range (0..65535)");
+        FMCW_CHECK_FILE(cls->values[i] >= 0 && cls->values[i] <= 65535.0, source, ": point ", i, " has class ", cls->values[i],
+                        " out of range (0..65535)");
         gt.semantic_class[i] = static_cast<std::uint16_t>(cls->values[i]);
       }
     } else {

@@ -24,8 +24,8 @@ const char* ply_type(const PcdField& f) {
     if (f.size == 2) return "short";
     if (f.size == 4) return "int";
   }
-  throw std::invalid_argument(concat("PLY: field '", f.name, "' of type ", f.type, f.size,
-                                     " has no PLY equivalent (8-byte integers)"));
+  throw core::InputError(concat("PLY: field '", f.name, "' of type ", f.type, f.size,
+                                " has no PLY equivalent (8-byte integers)"));
 }
 
 // One value in the field's own type and size, little-endian.

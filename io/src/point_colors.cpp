@@ -72,7 +72,7 @@ Rgb class_color(std::uint16_t class_id) {
 
 std::vector<Rgb> doppler_colors(const PcdCloud& cloud, double full_scale_mps, const std::string& where) {
   const PcdField* v = cloud.find("v");
-  if (!v) throw std::invalid_argument(where + ": no field 'v' to colour by Doppler");
+  if (!v) throw core::FileError(where + ": no field 'v' to colour by Doppler");
   std::vector<Rgb> colors(cloud.points());
   for (std::size_t i = 0; i < colors.size(); ++i) colors[i] = doppler_color(v->values[i], full_scale_mps);
   return colors;
@@ -87,8 +87,8 @@ std::vector<Rgb> label_colors(const PointLabels& labels) {
 std::vector<Rgb> class_colors(const PcdCloud& cloud, const std::string& where) {
   const PcdField* semantic = cloud.find("class");
   if (!semantic) {
-    throw std::invalid_argument(where + ": no field 'class' to colour by semantic class (only frames of datasets "
-                                        "written by fmcw simulate have it, and not those written before classes were)");
+    throw core::FileError(where + ": no field 'class' to colour by semantic class (only frames of datasets "
+                                  "written by fmcw simulate have it, and not those written before classes were)");
   }
   const PcdField* x = cloud.find("x");
   std::vector<Rgb> colors(cloud.points());
@@ -96,8 +96,8 @@ std::vector<Rgb> class_colors(const PcdCloud& cloud, const std::string& where) {
     const double id = semantic->values[i];
     if (!(id >= 0.0 && id <= 65535.0 && id == std::floor(id))) {
       if (x && !std::isfinite(x->values[i])) continue;  // no return: not exported
-      throw std::invalid_argument(
-          concat(where, ": point ", i, ": class ", id, " is not a class id (an integer in 0..65535)"));
+      throw core::FileError(
+    concat(where, ": point ", i, ": class ", id, " is not a class id (an integer in 0..65535)"));
     }
     colors[i] = class_color(static_cast<std::uint16_t>(id));
   }

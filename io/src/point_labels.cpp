@@ -36,22 +36,22 @@ constexpr std::uint16_t kFirstClassOfOurs = 100;
 
 const PcdField& require(const PcdCloud& cloud, const char* name, const std::string& where, const char* why) {
   const PcdField* f = cloud.find(name);
-  if (!f) throw std::invalid_argument(concat(where, ": no field '", name, "' for ", why));
+  if (!f) throw core::FileError(concat(where, ": no field '", name, "' for ", why));
   return *f;
 }
 
 std::uint16_t instance_id(double value, std::size_t point, const std::string& where) {
   if (!(value >= 0.0 && value <= kMaxInstance)) {
-    throw std::invalid_argument(concat(where, ": point ", point, ": id ", value,
-                                       " does not fit SemanticKITTI's 16-bit instance field (0..65535)"));
+    throw core::FileError(concat(where, ": point ", point, ": id ", value,
+                                 " does not fit SemanticKITTI's 16-bit instance field (0..65535)"));
   }
   return static_cast<std::uint16_t>(value);
 }
 
 std::uint16_t class_of_point(double value, std::size_t point, const std::string& where) {
   if (!(value >= 0.0 && value <= 65535.0 && value == std::floor(value))) {
-    throw std::invalid_argument(
-        concat(where, ": point ", point, ": class ", value, " is not a class id (an integer in 0..65535)"));
+    throw core::FileError(
+  concat(where, ": point ", point, ": class ", value, " is not a class id (an integer in 0..65535)"));
   }
   return static_cast<std::uint16_t>(value);
 }
@@ -61,7 +61,7 @@ LabelSource parse_label_source(const std::string& text) {
   if (text == "auto") return LabelSource::kAuto;
   if (text == "estimate") return LabelSource::kEstimate;
   if (text == "truth") return LabelSource::kTruth;
-  throw std::invalid_argument("label source must be auto, estimate or truth, got '" + text + "'");
+  throw core::InputError("label source must be auto, estimate or truth, got '" + text + "'");
 }
 
 std::uint16_t semantic_class(const std::string& actor_class, bool moving) {
@@ -93,8 +93,8 @@ PointLabels point_labels(const PcdCloud& cloud, LabelSource source, const std::m
     } else if (cloud.find("instance")) {
       source = LabelSource::kTruth;
     } else {
-      throw std::invalid_argument(concat(where, ": no labels: the cloud has neither 'label' (fmcw process output) "
-                                                "nor 'instance' and 'moving' (ground truth)"));
+      throw core::FileError(concat(where, ": no labels: the cloud has neither 'label' (fmcw process output) "
+                                          "nor 'instance' and 'moving' (ground truth)"));
     }
   }
   const std::size_t n = cloud.points();
@@ -107,7 +107,7 @@ PointLabels point_labels(const PcdCloud& cloud, LabelSource source, const std::m
     const PcdField& label = require(cloud, "label", where, "estimated labels");
     for (std::size_t i = 0; i < n; ++i) {
       const double l = label.values[i];
-      if (!(l >= -2.0)) throw std::invalid_argument(concat(where, ": point ", i, ": label ", l, " is below -2"));
+      if (!(l >= -2.0)) throw core::FileError(concat(where, ": point ", i, ": label ", l, " is below -2"));
       if (l == 0.0) {
         out.semantic[i] = kSemanticStatic;
       } else if (l > 0.0) {

@@ -40,7 +40,7 @@ std::size_t write_semantic_kitti(const std::string& bin_path, const std::string&
     if (!(std::isfinite(x->values[i]) && std::isfinite(y->values[i]) && std::isfinite(z->values[i]))) continue;
     const double remission = intensity ? intensity->values[i] : 0.0;
     if (!std::isfinite(remission)) {
-      throw std::invalid_argument(concat(where, ": point ", i, " has a return but intensity ", remission));
+      throw core::FileError(concat(where, ": point ", i, " has a return but intensity ", remission));
     }
     append_f32(bin, x->values[i]);
     append_f32(bin, y->values[i]);

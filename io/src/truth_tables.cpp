@@ -6,6 +6,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "fmcw/core/errors.hpp"
+
 namespace fmcw::io {
 
 const char* const kEgoCsvHeader =
@@ -41,7 +43,7 @@ double number(const std::string& cell, const std::string& file, int line) {
   char* end = nullptr;
   const double v = std::strtod(cell.c_str(), &end);
   if (cell.empty() || *end != '\0') {
-    throw std::invalid_argument(file + ":" + std::to_string(line) + ": expected a number, got '" + cell + "'");
+    throw core::FileError(file + ":" + std::to_string(line) + ": expected a number, got '" + cell + "'");
   }
   return v;
 }
@@ -63,7 +65,7 @@ Eigen::Vector3d vec(const std::vector<std::string>& c, std::size_t at, const std
 template <typename RowFn>
 void read_rows(const std::string& file, std::initializer_list<const char*> headers, RowFn fn) {
   std::ifstream in(file);
-  if (!in) throw std::invalid_argument(file + ": cannot open");
+  if (!in) throw core::FileError(file + ": cannot open");
   std::string line;
   std::getline(in, line);
   const char* header = nullptr;
@@ -72,7 +74,7 @@ void read_rows(const std::string& file, std::initializer_list<const char*> heade
     if (line + "\n" == h) header = h;
     if (!header) ++which;
   }
-  if (!header) throw std::invalid_argument(file + ":1: unexpected header '" + line + "'");
+  if (!header) throw core::FileError(file + ":1: unexpected header '" + line + "'");
   const std::size_t columns = split(std::string(header).substr(0, std::string(header).size() - 1)).size();
   int line_no = 1;
   while (std::getline(in, line)) {
@@ -80,8 +82,8 @@ void read_rows(const std::string& file, std::initializer_list<const char*> heade
     if (line.empty()) continue;
     const auto cells = split(line);
     if (cells.size() != columns) {
-      throw std::invalid_argument(file + ":" + std::to_string(line_no) + ": " + std::to_string(cells.size()) +
-                                  " columns, expected " + std::to_string(columns));
+      throw core::FileError(file + ":" + std::to_string(line_no) + ": " + std::to_string(cells.size()) +
+                            " columns, expected " + std::to_string(columns));
     }
     fn(cells, line_no, which);
   }
@@ -125,7 +127,7 @@ std::vector<core::FrameTruth> read_truth_tables(const std::string& ego_csv, cons
   read_rows(ego_csv, {kEgoCsvHeader}, [&](const std::vector<std::string>& c, int line, std::size_t) {
     const auto frame = static_cast<std::size_t>(number(c[0], ego_csv, line));
     if (frame != frames.size()) {
-      throw std::invalid_argument(ego_csv + ":" + std::to_string(line) + ": frame " + c[0] + " out of order");
+      throw core::FileError(ego_csv + ":" + std::to_string(line) + ": frame " + c[0] + " out of order");
     }
     core::FrameTruth t;
     t.stamp_s = number(c[1], ego_csv, line);
@@ -138,7 +140,7 @@ std::vector<core::FrameTruth> read_truth_tables(const std::string& ego_csv, cons
                                                                                 std::size_t header) {
     const auto frame = static_cast<std::size_t>(number(c[0], objects_csv, line));
     if (frame >= frames.size()) {
-      throw std::invalid_argument(objects_csv + ":" + std::to_string(line) + ": frame " + c[0] + " not in ego.csv");
+      throw core::FileError(objects_csv + ":" + std::to_string(line) + ": frame " + c[0] + " not in ego.csv");
     }
     core::ActorTruth a;
     a.id = static_cast<std::uint32_t>(number(c[2], objects_csv, line));
@@ -166,13 +168,13 @@ std::vector<core::FrameTruth> read_truth_tables(const std::string& ego_csv, cons
 
 bool objects_csv_has_boxes(const std::string& objects_csv) {
   std::ifstream in(objects_csv);
-  if (!in) throw std::invalid_argument(objects_csv + ": cannot open");
+  if (!in) throw core::FileError(objects_csv + ": cannot open");
   std::string line;
   std::getline(in, line);
   line += "\n";
   if (line == kObjectsCsvHeader) return true;
   if (line == kObjectsCsvHeaderWithoutBoxes) return false;
-  throw std::invalid_argument(objects_csv + ":1: unexpected header '" + line.substr(0, line.size() - 1) + "'");
+  throw core::FileError(objects_csv + ":1: unexpected header '" + line.substr(0, line.size() - 1) + "'");
 }
 
 }  // namespace fmcw::io

@@ -5,7 +5,7 @@
 
 #include "bindings.hpp"
 #include "fmcw/core/ground_truth.hpp"
-#include "fmcw/eval/frame_source.hpp"
+#include "fmcw/eval/scenario_source.hpp"
 #include "numpy_arrays.hpp"
 
 namespace fmcw::python {

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "fmcw/core/errors.hpp"
+
 namespace fmcw::python {
 
 namespace py = pybind11;
@@ -28,16 +30,16 @@ py::array_t<Out> to_image(const std::vector<T>& values, int rows, int cols) {
 template <typename T>
 std::vector<T> from_image(const py::handle& obj, int& rows, int& cols, const char* name) {
   const auto a = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(obj);
-  if (!a) throw std::invalid_argument(std::string("'") + name + "' must be a numeric array");
+  if (!a) throw core::InputError(std::string("'") + name + "' must be a numeric array");
   if (a.ndim() != 2) {
-    throw std::invalid_argument(std::string("'") + name + "' must have shape (rows, cols), got " +
-                                std::to_string(a.ndim()) + " dimensions");
+    throw core::InputError(std::string("'") + name + "' must have shape (rows, cols), got " +
+                           std::to_string(a.ndim()) + " dimensions");
   }
   const auto r = static_cast<int>(a.shape(0));
   const auto c = static_cast<int>(a.shape(1));
   if (rows >= 0 && (r != rows || c != cols)) {
-    throw std::invalid_argument(std::string("'") + name + "' has shape (" + std::to_string(r) + ", " + std::to_string(c) +
-                                "), expected (" + std::to_string(rows) + ", " + std::to_string(cols) + ") like x");
+    throw core::InputError(std::string("'") + name + "' has shape (" + std::to_string(r) + ", " + std::to_string(c) +
+                           "), expected (" + std::to_string(rows) + ", " + std::to_string(cols) + ") like x");
   }
   rows = r;
   cols = c;
@@ -48,10 +50,10 @@ std::vector<T> from_image(const py::handle& obj, int& rows, int& cols, const cha
 template <typename T>
 std::vector<T> from_vector(const py::handle& obj, py::ssize_t n, const char* name) {
   const auto a = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(obj);
-  if (!a || a.ndim() != 1) throw std::invalid_argument(std::string("'") + name + "' must be a 1-D numeric array");
+  if (!a || a.ndim() != 1) throw core::InputError(std::string("'") + name + "' must be a 1-D numeric array");
   if (n >= 0 && a.shape(0) != n) {
-    throw std::invalid_argument(std::string("'") + name + "' has " + std::to_string(a.shape(0)) + " values, expected " +
-                                std::to_string(n) + " like x");
+    throw core::InputError(std::string("'") + name + "' has " + std::to_string(a.shape(0)) + " values, expected " +
+                           std::to_string(n) + " like x");
   }
   return std::vector<T>(a.data(), a.data() + a.size());
 }
@@ -83,7 +85,7 @@ inline py::array_t<double> to_array(const Eigen::Isometry3d& T) {
 inline Eigen::Isometry3d to_isometry(const py::handle& obj, const char* name) {
   const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
   if (!a || a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4) {
-    throw std::invalid_argument(std::string("'") + name + "' must be a 4x4 array");
+    throw core::InputError(std::string("'") + name + "' must be a 4x4 array");
   }
   Eigen::Matrix4d m;
   for (int r = 0; r < 4; ++r) {
@@ -91,8 +93,8 @@ inline Eigen::Isometry3d to_isometry(const py::handle& obj, const char* name) {
   }
   const Eigen::Matrix3d R = m.topLeftCorner<3, 3>();
   if (!m.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1)) || !(R.transpose() * R).isIdentity(1e-6) || R.determinant() < 0) {
-    throw std::invalid_argument(std::string("'") + name + "' must be a 4x4 rigid transform (rotation, translation, "
-                                "bottom row 0 0 0 1)");
+    throw core::InputError(std::string("'") + name + "' must be a 4x4 rigid transform (rotation, translation, "
+                           "bottom row 0 0 0 1)");
   }
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = R;

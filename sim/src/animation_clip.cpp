@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "fmcw/core/errors.hpp"
+
 namespace fmcw::sim {
 
 namespace {
@@ -74,7 +76,7 @@ const char* to_string(Interpolation interpolation) {
 }
 
 void KeyCurve::validate(const std::string& where) const {
-  const auto fail = [&](const std::string& what) { throw std::invalid_argument(where + ": " + what); };
+  const auto fail = [&](const std::string& what) { throw core::FileError(where + ": " + what); };
   if (width != 3 && width != 4) fail("a curve has width 3 or 4, got " + std::to_string(width));
   if (times_s.empty()) fail("no key");
   const std::size_t per_key = static_cast<std::size_t>(width) * (interpolation == Interpolation::kCubicSpline ? 3 : 1);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "fmcw/core/errors.hpp"
 #include "mesh_loaders.hpp"
 
 namespace fmcw::sim::detail {
@@ -102,11 +103,11 @@ struct Reader {
         const aiBone* bone = m.mesh->mBones[b];
         const int node = asset.find_part(bone->mName.C_Str());
         const std::string where = "mesh '" + asset.path + "': bone '" + bone->mName.C_Str() + "' of mesh '" + m.mesh->mName.C_Str() + "'";
-        if (node < 0) throw std::invalid_argument(where + " names no node");
+        if (node < 0) throw core::FileError(where + " names no node");
         const std::uint32_t j = joint(node, to_eigen(bone->mOffsetMatrix).matrix());
         for (unsigned w = 0; w < bone->mNumWeights; ++w) {
           const aiVertexWeight& vw = bone->mWeights[w];
-          if (vw.mVertexId >= m.mesh->mNumVertices) throw std::invalid_argument(where + " weights vertex " + std::to_string(vw.mVertexId) + ", which does not exist");
+          if (vw.mVertexId >= m.mesh->mNumVertices) throw core::FileError(where + " weights vertex " + std::to_string(vw.mVertexId) + ", which does not exist");
           influences[m.base + vw.mVertexId].emplace_back(j, vw.mWeight);
         }
       }
@@ -116,7 +117,7 @@ struct Reader {
     for (std::size_t v = 0; v < part.vertices.size(); ++v) {
       if (!boned_vertex[v]) influences[v].emplace_back(joint(static_cast<int>(p), Eigen::Matrix4d::Identity()), 1.0);
       if (influences[v].empty()) {
-        throw std::invalid_argument("mesh '" + asset.path + "': node '" + part.name + "': vertex " + std::to_string(v) + " has no bone weight");
+        throw core::FileError("mesh '" + asset.path + "': node '" + part.name + "': vertex " + std::to_string(v) + " has no bone weight");
       }
       append_influences(influences[v], skin->joint_parts.size(),
                         "mesh '" + asset.path + "': node '" + part.name + "': vertex " + std::to_string(v), *skin);
@@ -184,12 +185,12 @@ MeshAsset load_assimp_asset(const std::string& path, const ReflectivityTable& re
       path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
                 aiProcess_FindDegenerates | aiProcess_ValidateDataStructure);
   if (scene == nullptr || scene->mRootNode == nullptr) {
-    throw std::invalid_argument("mesh '" + path + "' cannot be read: " + importer.GetErrorString());
+    throw core::FileError("mesh '" + path + "' cannot be read: " + importer.GetErrorString());
   }
   // assimp reads a file without a mesh (an FBX of a skeleton, a camera path or an animation
   // alone) and flags the scene incomplete, with no error to give.
   if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) {
-    throw std::invalid_argument("mesh '" + path + "' holds no triangles: assimp finds no mesh in it");
+    throw core::FileError("mesh '" + path + "' holds no triangles: assimp finds no mesh in it");
   }
   MeshAsset asset;
   asset.path = path;

@@ -10,7 +10,9 @@
 #include <fstream>
 #include <sstream>
 
+#include "fmcw/core/errors.hpp"
 #include "fmcw/io/atomic_file.hpp"
+#include "fmcw/io/dataset_header.hpp"
 #include "fmcw/io/output_folder.hpp"
 #include "fmcw/io/pcd.hpp"
 #include "fmcw/io/truth_tables.hpp"
@@ -59,9 +61,9 @@ long long row_frame(const std::string& row) {
 // frames after the last whole one, and a row cut short by a kill). Returns the distinct frames kept.
 int truncate_table(const fs::path& file, const char* header, int first, int end) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::invalid_argument(file.string() + ": missing; the dataset cannot be resumed");
+  if (!in) throw core::FileError(file.string() + ": missing; the dataset cannot be resumed");
   const std::string text((std::istreambuf_iterator<char>(in)), {});
-  if (text.rfind(header, 0) != 0) throw std::invalid_argument(file.string() + ": does not start with the expected header");
+  if (text.rfind(header, 0) != 0) throw core::FileError(file.string() + ": does not start with the expected header");
   std::string kept = header;
   int frames = 0;
   long long last = -1;
@@ -120,34 +122,34 @@ std::string kept_frame_fault(const fs::path& file, double stamp_s) {
 // the stop, and returns how many whole frames it holds. Every frame it counts is read back: from
 // the first that is missing, cut short or not the frame this run would write, the frames are
 // simulated again (note says which and why).
-int prepare_resume(const fs::path& dir, const DatasetHeader& wanted, int total_frames, const Scenario& scenario,
+int prepare_resume(const fs::path& dir, const io::DatasetHeader& wanted, int total_frames, const Scenario& scenario,
                    std::string& note) {
   const std::string yaml_file = (dir / "dataset.yaml").string();
-  const DatasetHeader found = DatasetHeader::read(yaml_file);
+  const io::DatasetHeader found = io::DatasetHeader::read(yaml_file);
   const std::string hint = " (resume needs the same scenario file, --frames, --seed, --shard and fmcw version)";
   if (found.tool_version != wanted.tool_version) {
-    throw std::invalid_argument(yaml_file + ": written by fmcw " + found.tool_version + ", this is " +
-                                wanted.tool_version + hint);
+    throw core::InputError(yaml_file + ": written by fmcw " + found.tool_version + ", this is " +
+                           wanted.tool_version + hint);
   }
   if (found.scenario_yaml != wanted.scenario_yaml) {
-    throw std::invalid_argument(yaml_file + ": the dataset was started with another scenario or options, first difference at " +
-                                first_difference(found.scenario_yaml, wanted.scenario_yaml) + hint);
+    throw core::InputError(yaml_file + ": the dataset was started with another scenario or options, first difference at " +
+                           first_difference(found.scenario_yaml, wanted.scenario_yaml) + hint);
   }
-  const auto shard_text = [](const std::optional<ShardInfo>& s) {
+  const auto shard_text = [](const std::optional<io::ShardInfo>& s) {
     return s ? std::to_string(s->index) + "/" + std::to_string(s->count) : std::string("none");
   };
   if (found.shard.has_value() != wanted.shard.has_value() || (found.shard && !(*found.shard == *wanted.shard))) {
-    throw std::invalid_argument(yaml_file + ": the dataset is shard " + shard_text(found.shard) + ", this run is shard " +
-                                shard_text(wanted.shard) + hint);
+    throw core::InputError(yaml_file + ": the dataset is shard " + shard_text(found.shard) + ", this run is shard " +
+                           shard_text(wanted.shard) + hint);
   }
   const int first = wanted.shard ? wanted.shard->first_frame : 0;
   int done = found.frames_written;
   if (done > total_frames) {
-    throw std::invalid_argument(yaml_file + ": counts " + std::to_string(done) + " frames, more than the " +
-                                std::to_string(total_frames) + " this run writes; the dataset cannot be resumed");
+    throw core::InputError(yaml_file + ": counts " + std::to_string(done) + " frames, more than the " +
+                           std::to_string(total_frames) + " this run writes; the dataset cannot be resumed");
   }
   for (int k = first; k < first + done; ++k) {
-    const fs::path file = dir / "frames" / frame_file_name(k);
+    const fs::path file = dir / "frames" / io::frame_file_name(k);
     const std::string fault = kept_frame_fault(file, scenario.frame_time_s(static_cast<std::uint64_t>(k)));
     if (fault.empty()) continue;
     note = file.string() + ": " + fault + "; it and the " + std::to_string(first + done - k - 1) +
@@ -159,9 +161,9 @@ int prepare_resume(const fs::path& dir, const DatasetHeader& wanted, int total_f
   const int ego_frames = truncate_table(dir / "ego.csv", io::kEgoCsvHeader, first, first + done);
   truncate_table(dir / "objects.csv", io::kObjectsCsvHeader, first, first + done);
   if (ego_frames != done) {
-    throw std::invalid_argument((dir / "ego.csv").string() + ": holds " + std::to_string(ego_frames) +
-                                " frames but dataset.yaml counts " + std::to_string(done) +
-                                "; the dataset cannot be resumed");
+    throw core::FileError((dir / "ego.csv").string() + ": holds " + std::to_string(ego_frames) +
+                          " frames but dataset.yaml counts " + std::to_string(done) +
+                          "; the dataset cannot be resumed");
   }
   return done;
 }
@@ -181,8 +183,8 @@ DatasetSummary write_dataset(const LoadedScenario& loaded_in, const DatasetOptio
   Scenario& s = loaded.scenario;
   if (options.frames > 0) s.frames = options.frames;
   if (options.override_seed) s.seed = options.seed;
-  const ShardInfo shard = ShardInfo::of(options.shard_index, options.shard_count, s.frames);
-  DatasetHeader header;
+  const io::ShardInfo shard = io::ShardInfo::of(options.shard_index, options.shard_count, s.frames);
+  io::DatasetHeader header;
   header.tool_version = options.tool_version;
   header.motion_distortion = s.motion_distortion;
   if (options.shard_count > 1) header.shard = shard;
@@ -197,7 +199,7 @@ DatasetSummary write_dataset(const LoadedScenario& loaded_in, const DatasetOptio
   const fs::path yaml_file = dir / "dataset.yaml";
   std::error_code ec;
   if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
-    throw std::invalid_argument("output '" + options.output_dir + "' exists and is not a folder");
+    throw core::InputError("output '" + options.output_dir + "' exists and is not a folder");
   }
   // One writer per dataset, from the first look at the folder to the last frame.
   const io::FolderLock lock(options.output_dir);
@@ -206,21 +208,21 @@ DatasetSummary write_dataset(const LoadedScenario& loaded_in, const DatasetOptio
   summary.frames_total = shard.frames();
   if (options.resume && occupied) {
     if (!fs::is_regular_file(yaml_file, ec)) {
-      throw std::invalid_argument("cannot resume: '" + options.output_dir + "' holds no dataset.yaml");
+      throw core::InputError("cannot resume: '" + options.output_dir + "' holds no dataset.yaml");
     }
     io::ensure_writable_directory((dir / "frames").string());
     summary.frames_resumed = prepare_resume(dir, header, shard.frames(), s, summary.resume_note);
   } else {
     if (occupied && !options.overwrite) {
-      throw std::invalid_argument("output folder '" + options.output_dir +
-                                  "' exists and is not empty (choose another folder, pass --overwrite, or --resume "
-                                  "to continue a stopped run)");
+      throw core::InputError("output folder '" + options.output_dir +
+                             "' exists and is not empty (choose another folder, pass --overwrite, or --resume "
+                             "to continue a stopped run)");
     }
     // --overwrite replaces a dataset, nothing else: a folder of other files is left as it is.
     if (occupied && !io::holds_dataset(options.output_dir)) {
-      throw std::invalid_argument("output folder '" + options.output_dir +
-                                  "' holds no dataset.yaml or frames/: --overwrite replaces only a dataset that fmcw "
-                                  "writes; choose another folder");
+      throw core::InputError("output folder '" + options.output_dir +
+                             "' holds no dataset.yaml or frames/: --overwrite replaces only a dataset that fmcw "
+                             "writes; choose another folder");
     }
     io::ensure_writable_directory((dir / "frames").string());
     // Files of an earlier dataset here would be taken for part of this one.
@@ -254,7 +256,7 @@ DatasetSummary write_dataset(const LoadedScenario& loaded_in, const DatasetOptio
         break;
       }
       simulator.simulate(static_cast<std::uint64_t>(k), s.frame_time_s(static_cast<std::uint64_t>(k)), frame);
-      io::write_frame((dir / "frames" / frame_file_name(k)).string(), frame);
+      io::write_frame((dir / "frames" / io::frame_file_name(k)).string(), frame);
       append(ego_out, dir / "ego.csv", io::ego_csv_row(static_cast<std::size_t>(k), *frame.frame_truth));
       append(objects_out, dir / "objects.csv", io::objects_csv_rows(static_cast<std::size_t>(k), *frame.frame_truth));
       summary.returns += frame.scan.num_valid();
@@ -262,10 +264,10 @@ DatasetSummary write_dataset(const LoadedScenario& loaded_in, const DatasetOptio
       write_header();
       if (progress) progress(summary.frames_written, shard.frames());
     }
-  } catch (const std::runtime_error& e) {
-    throw std::runtime_error(std::string(e.what()) + "; " + options.output_dir + " holds " +
-                             std::to_string(summary.frames_written) + " of " + std::to_string(shard.frames()) +
-                             " frames whole: fix the cause and continue with --resume");
+  } catch (const std::runtime_error&) {
+    core::rethrow_with_context("", "; " + options.output_dir + " holds " + std::to_string(summary.frames_written) +
+                                       " of " + std::to_string(shard.frames()) +
+                                       " frames whole: fix the cause and continue with --resume");
   }
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return summary;

@@ -8,7 +8,8 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "fmcw/sim/yaml_reader.hpp"
+#include "fmcw/core/errors.hpp"
+#include "fmcw/io/yaml_reader.hpp"
 
 namespace fmcw::sim::detail {
 
@@ -38,12 +39,12 @@ std::uint32_t le32(const std::uint8_t* p) {
 std::vector<std::uint8_t> read_bytes(const std::string& path, const std::string& what) {
   std::error_code ec;
   const auto size = fs::file_size(path, ec);
-  if (ec) throw std::invalid_argument(what + " cannot be read: " + ec.message());
-  if (size > kMaxFileBytes) throw std::invalid_argument(what + " is larger than 2 GiB");
+  if (ec) throw core::FileError(what + " cannot be read: " + ec.message());
+  if (size > kMaxFileBytes) throw core::LimitError(what + " is larger than 2 GiB");
   std::ifstream in(path, std::ios::binary);
   std::vector<std::uint8_t> bytes(size);
   if (!in || !in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size))) {
-    throw std::invalid_argument(what + " cannot be read");
+    throw core::FileError(what + " cannot be read");
   }
   return bytes;
 }
@@ -160,7 +161,7 @@ double read_component(const std::uint8_t* p, int type, bool normalized) {
 
 }  // namespace
 
-void GltfDocument::fail(const std::string& what) const { throw std::invalid_argument("mesh '" + path_ + "': " + what); }
+void GltfDocument::fail(const std::string& what) const { throw core::FileError("mesh '" + path_ + "': " + what); }
 
 std::optional<GltfDocument> GltfDocument::read(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
@@ -207,7 +208,7 @@ std::optional<GltfDocument> GltfDocument::read(const std::string& path) {
   try {
     doc.json_ = json::parse(text, text + text_size);
   } catch (const json::exception& e) {
-    throw std::invalid_argument("mesh '" + path + "' cannot be read: malformed glTF JSON: " + e.what());
+    throw core::FileError("mesh '" + path + "' cannot be read: malformed glTF JSON: " + e.what());
   }
   if (!doc.json_.is_object()) doc.fail("the glTF JSON is not an object");
   if (json_depth(doc.json_, kMaxJsonDepth) > kMaxJsonDepth) {
@@ -239,7 +240,7 @@ void GltfDocument::load_buffers() {
         }
       } else {
         const std::string file = (fs::path(path_).parent_path() / percent_decode(uri)).string();
-        if (!is_existing_file(file)) fail(where + ".uri names '" + file + "', which does not exist");
+        if (!io::is_existing_file(file)) fail(where + ".uri names '" + file + "', which does not exist");
         data = read_bytes(file, "mesh '" + path_ + "': " + where + " file '" + file + "'");
       }
     }

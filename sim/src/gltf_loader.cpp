@@ -6,6 +6,7 @@
 #include <cmath>
 #include <set>
 
+#include "fmcw/core/errors.hpp"
 #include "gltf_document.hpp"
 #include "mesh_loaders.hpp"
 
@@ -464,16 +465,16 @@ void append_influences(std::vector<std::pair<std::uint32_t, double>>& influences
                        const std::string& where, SkinBinding& skin) {
   double sum = 0.0;
   for (const auto& [joint, weight] : influences) {
-    if (!std::isfinite(weight) || weight < 0.0) throw std::invalid_argument(where + " has a weight " + std::to_string(weight));
+    if (!std::isfinite(weight) || weight < 0.0) throw core::FileError(where + " has a weight " + std::to_string(weight));
     if (weight == 0.0) continue;
     if (joint >= joint_count) {
-      throw std::invalid_argument(where + " is bound to joint " + std::to_string(joint) + " but the skin has " +
-                                  std::to_string(joint_count) + " joints");
+      throw core::FileError(where + " is bound to joint " + std::to_string(joint) + " but the skin has " +
+                            std::to_string(joint_count) + " joints");
     }
     sum += weight;
   }
   if (std::abs(sum - 1.0) > 0.01) {
-    throw std::invalid_argument(where + ": its bone weights sum to " + std::to_string(sum) + ", not 1");
+    throw core::FileError(where + ": its bone weights sum to " + std::to_string(sum) + ", not 1");
   }
   for (const auto& [joint, weight] : influences) {
     if (weight == 0.0) continue;

@@ -54,8 +54,8 @@ void LidarSimulatorParams::validate() const {
   measurement.validate();
   FMCW_CHECK_ARG(min_range_m >= 0.0, "simulator: min_range_m must be >= 0, got ", min_range_m);
   FMCW_CHECK_ARG(moving_threshold_mps >= 0.0, "simulator: moving_threshold_mps must be >= 0, got ", moving_threshold_mps);
-  FMCW_CHECK_ARG(num_threads >= 0 && num_threads <= core::kMaxThreads, "simulator: num_threads (--threads) must be in [0, ", core::kMaxThreads,
-                 "] (0: all cores), got ", num_threads);
+  FMCW_CHECK_LIMIT(num_threads >= 0 && num_threads <= core::kMaxThreads, "simulator: num_threads (--threads) must be in [0, ", core::kMaxThreads,
+                   "] (0: all cores), got ", num_threads);
   FMCW_CHECK_ARG(time_slices >= 0, "simulator: time_slices must be >= 0, got ", time_slices);
   divergence.validate();
 }

@@ -26,7 +26,7 @@ std::string to_string(MeasurementParams::Model model) {
 MeasurementParams::Model measurement_model_from_string(const std::string& name) {
   if (name == "gaussian") return MeasurementParams::Model::kGaussian;
   if (name == "beat_frequency") return MeasurementParams::Model::kBeatFrequency;
-  throw std::invalid_argument("measurement: unknown model '" + name + "' (known: gaussian, beat_frequency)");
+  throw core::InputError("measurement: unknown model '" + name + "' (known: gaussian, beat_frequency)");
 }
 
 MeasurementModel::MeasurementModel(const MeasurementParams& params) : params_(params) { params_.validate(); }

@@ -6,6 +6,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "fmcw/core/errors.hpp"
+
 namespace fmcw::sim {
 
 namespace {
@@ -32,9 +34,9 @@ MemoryBudget::MemoryBudget(std::uint64_t limit_bytes)
 void MemoryBudget::add(double bytes, const std::string& where, const std::string& what) {
   total_ += bytes;
   if (!(total_ <= limit_)) {
-    throw std::invalid_argument(where + ": " + what + " would take about " + mb(bytes) + ", and the scenario " +
-                                mb(total_) + " in all, over the memory budget of " + mb(limit_) +
-                                " (half of this machine's memory unless --max-memory says otherwise)");
+    throw core::LimitError(where + ": " + what + " would take about " + mb(bytes) + ", and the scenario " +
+                           mb(total_) + " in all, over the memory budget of " + mb(limit_) +
+                           " (half of this machine's memory unless --max-memory says otherwise)");
   }
 }
 

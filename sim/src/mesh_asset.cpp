@@ -2,7 +2,8 @@
 
 #include <stdexcept>
 
-#include "fmcw/sim/yaml_reader.hpp"
+#include "fmcw/core/errors.hpp"
+#include "fmcw/io/yaml_reader.hpp"
 #include "mesh_loaders.hpp"
 
 namespace fmcw::sim {
@@ -24,7 +25,7 @@ std::uint16_t MeshAsset::material_index(const std::string& name) {
   for (std::size_t k = 0; k < materials.size(); ++k) {
     if (materials[k] == name) return static_cast<std::uint16_t>(k);
   }
-  if (materials.size() >= 0xFFFF) throw std::invalid_argument("mesh '" + path + "' has more than 65535 materials");
+  if (materials.size() >= 0xFFFF) throw core::LimitError("mesh '" + path + "' has more than 65535 materials");
   materials.push_back(name);
   return static_cast<std::uint16_t>(materials.size() - 1);
 }
@@ -103,8 +104,8 @@ MeshAsset box_mesh(const Eigen::Vector3f& h, float reflectivity, const std::stri
 }
 
 MeshAsset load_mesh_asset(const std::string& path, const ReflectivityTable& reflectivity, float default_reflectivity) {
-  if (!is_existing_file(path)) {
-    throw std::invalid_argument("mesh '" + path + "' does not exist");
+  if (!io::is_existing_file(path)) {
+    throw core::FileError("mesh '" + path + "' does not exist");
   }
   std::optional<MeshAsset> gltf = detail::load_animated_gltf(path, reflectivity, default_reflectivity);
   MeshAsset asset = gltf ? std::move(*gltf) : detail::load_assimp_asset(path, reflectivity, default_reflectivity);
@@ -114,7 +115,7 @@ MeshAsset load_mesh_asset(const std::string& path, const ReflectivityTable& refl
     if (!gltf && !asset.parts[k].skin) continue;  // assimp's reader added them as it read them
     for (const auto& v : asset.rest_vertices(k, T)) asset.rest_bounds.extend(v.cast<double>());
   }
-  if (asset.triangle_count() == 0) throw std::invalid_argument("mesh '" + path + "' holds no triangles");
+  if (asset.triangle_count() == 0) throw core::FileError("mesh '" + path + "' holds no triangles");
   return asset;
 }
 

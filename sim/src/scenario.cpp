@@ -8,12 +8,17 @@
 #include <sstream>
 
 #include "fmcw/core/check.hpp"
-#include "fmcw/sim/yaml_reader.hpp"
+#include "fmcw/io/yaml_reader.hpp"
 #include "fmcw/core/threads.hpp"
 #include "memory_budget.hpp"
 #include "scene_limits.hpp"
 
 namespace fmcw::sim {
+
+using io::YamlMap;
+using io::YamlValue;
+using io::is_existing_file;
+using io::missing_file_reason;
 
 namespace fs = std::filesystem;
 
@@ -112,8 +117,8 @@ core::HeadModel read_head(const YamlValue& value, std::size_t index) {
   m.finish();
   try {
     head.validate();
-  } catch (const std::invalid_argument& e) {
-    value.fail(e.what());
+  } catch (const std::exception&) {  // a LimitError (too many pixels) stays one
+    core::rethrow_as_file_error(value.where() + ": ");
   }
   return head;
 }
@@ -136,8 +141,8 @@ core::RigModel read_rig(const YamlValue& value, MemoryBudget* budget = nullptr) 
   }
   try {
     rig.validate();
-  } catch (const std::invalid_argument& e) {
-    value.fail(e.what());
+  } catch (const std::exception&) {  // a LimitError (too many pixels) stays one
+    core::rethrow_as_file_error(value.where() + ": ");
   }
   return rig;
 }
@@ -408,7 +413,7 @@ auto with_yaml_errors_named(const std::string& path, Read read) {
   } catch (const YAML::Exception& e) {
     std::ostringstream msg;
     msg << path << ":" << e.mark.line + 1 << ":" << e.mark.column + 1 << ": " << e.msg;
-    throw std::invalid_argument(msg.str());
+    throw core::FileError(msg.str());
   }
 }
 
@@ -732,8 +737,8 @@ std::string scenario_to_yaml(const Scenario& s) {
 
 SimulationSetup build_simulation(const LoadedScenario& loaded, int num_threads) {
   // Checked before the scene is built (the simulator checks it again).
-  FMCW_CHECK_ARG(num_threads >= 0 && num_threads <= core::kMaxThreads, "simulator: num_threads (--threads) must be in [0, ",
-                 core::kMaxThreads, "] (0: all cores), got ", num_threads);
+  FMCW_CHECK_LIMIT(num_threads >= 0 && num_threads <= core::kMaxThreads, "simulator: num_threads (--threads) must be in [0, ",
+                   core::kMaxThreads, "] (0: all cores), got ", num_threads);
   const Scenario& s = loaded.scenario;
   SimulationSetup setup;
   check_scene_limits(s);

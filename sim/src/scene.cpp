@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "fmcw/core/errors.hpp"
+
 namespace fmcw::sim {
 
 namespace {
@@ -125,12 +127,12 @@ void Scene::add_ground_plane(double z_m, double half_size_m, float reflectivity,
 }
 
 void Scene::add(SceneObject object) {
-  if (!object.asset) throw std::invalid_argument("scene object '" + object.name + "' has no mesh");
-  if (!object.trajectory) throw std::invalid_argument("scene object '" + object.name + "' has no trajectory");
+  if (!object.asset) throw core::InputError("scene object '" + object.name + "' has no mesh");
+  if (!object.trajectory) throw core::InputError("scene object '" + object.name + "' has no trajectory");
   if (object.actor_id != 0) {
     if (object.clip >= static_cast<int>(object.asset->clips.size())) {
-      throw std::invalid_argument("scene object '" + object.name + "' plays clip " + std::to_string(object.clip) +
-                                  " of a mesh with " + std::to_string(object.asset->clips.size()));
+      throw core::InputError("scene object '" + object.name + "' plays clip " + std::to_string(object.clip) +
+                             " of a mesh with " + std::to_string(object.asset->clips.size()));
     }
     actors_.push_back(std::move(object));
     return;

@@ -4,6 +4,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "fmcw/core/errors.hpp"
+
 namespace fmcw::sim {
 
 namespace {
@@ -20,37 +22,37 @@ void check_body(const Scenario& s, const TrajectorySpec& spec, const std::string
   std::unique_ptr<Trajectory> trajectory;
   try {
     trajectory = spec.make();
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(where + e.what());
+  } catch (const std::invalid_argument&) {
+    core::rethrow_as_file_error(where);
   }
   const int last = spec.type == "static" ? 0 : s.frames;  // a static body is where it was
   for (int k = 0; k <= last; ++k) {
     const double t = s.frame_time_s(static_cast<std::uint64_t>(k));
     if (!std::isfinite(t)) {
-      throw std::invalid_argument(s.source_file + ": frame " + std::to_string(k) + " has no finite time (start_time_s " +
-                                  std::to_string(s.start_time_s) + ", rate_hz " + std::to_string(s.rate_hz) + ")");
+      throw core::FileError(s.source_file + ": frame " + std::to_string(k) + " has no finite time (start_time_s " +
+                            std::to_string(s.start_time_s) + ", rate_hz " + std::to_string(s.rate_hz) + ")");
     }
     MotionState m;
     try {
       m = trajectory->state(t);
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(where + "at t = " + std::to_string(t) + " s: " + e.what());
+    } catch (const std::invalid_argument&) {
+      core::rethrow_as_file_error(where + "at t = " + std::to_string(t) + " s: ");
     }
     const Eigen::Vector3d p = m.T_world_body.translation();
     const std::string at = "at frame " + std::to_string(k) + " (t = " + std::to_string(t) + " s) ";
     if (!p.allFinite() || p.norm() > kMaxSceneExtent_m) {
-      throw std::invalid_argument(where + at + "the body is at " + vec_text(p) + ", farther than " +
-                                  std::to_string(static_cast<int>(kMaxSceneExtent_m)) +
-                                  " m from the origin, where single-precision ray tracing loses millimetres; "
-                                  "move the scene nearer the origin or shorten it");
+      throw core::FileError(where + at + "the body is at " + vec_text(p) + ", farther than " +
+                            std::to_string(static_cast<int>(kMaxSceneExtent_m)) +
+                            " m from the origin, where single-precision ray tracing loses millimetres; "
+                            "move the scene nearer the origin or shorten it");
     }
     if (!m.twist.linear_mps.allFinite() || m.twist.linear_mps.norm() > kMaxSpeed_mps) {
-      throw std::invalid_argument(where + at + "the body moves at " + vec_text(m.twist.linear_mps) +
-                                  " m/s, faster than " + std::to_string(static_cast<int>(kMaxSpeed_mps)) + " m/s");
+      throw core::FileError(where + at + "the body moves at " + vec_text(m.twist.linear_mps) +
+                            " m/s, faster than " + std::to_string(static_cast<int>(kMaxSpeed_mps)) + " m/s");
     }
     if (!m.twist.angular_rps.allFinite() || m.twist.angular_rps.norm() > kMaxTurnRate_rps) {
-      throw std::invalid_argument(where + at + "the body turns at " + vec_text(m.twist.angular_rps) +
-                                  " rad/s, faster than 10 turns a second");
+      throw core::FileError(where + at + "the body turns at " + vec_text(m.twist.angular_rps) +
+                            " rad/s, faster than 10 turns a second");
     }
   }
 }

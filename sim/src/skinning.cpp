@@ -3,10 +3,12 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "fmcw/core/errors.hpp"
+
 namespace fmcw::sim {
 
 void SkinBinding::validate(const std::string& where, std::size_t vertex_count, std::size_t part_count) const {
-  const auto fail = [&](const std::string& what) { throw std::invalid_argument(where + ": " + what); };
+  const auto fail = [&](const std::string& what) { throw core::FileError(where + ": " + what); };
   if (joint_parts.empty()) fail("the skin has no joint");
   if (inverse_bind.size() != joint_parts.size()) {
     fail(std::to_string(joint_parts.size()) + " joints but " + std::to_string(inverse_bind.size()) +

@@ -1,6 +1,8 @@
 #pragma once
 // Small analytic scenes shared by the core tests.
 
+#include <cmath>
+
 #include "fmcw/core/synthetic_scan.hpp"
 
 namespace fmcw::test {
@@ -18,6 +20,31 @@ inline core::SyntheticSceneParams static_courtyard() {
   core::SyntheticBox right = left;
   right.center_m.y() = -26.0;
   p.static_boxes = {front, left, right};
+  return p;
+}
+
+/// The courtyard with 340 small boxes (0.3 m) 15 m from the front head, 34 azimuths by 10
+/// elevations across the paper rig's view, each moving along its beam at 1 to 2.75 m/s, and the
+/// ego at 5 m/s: several hundred moving clusters, each apart from the next by static pixels.
+inline core::SyntheticSceneParams crowded_courtyard() {
+  core::SyntheticSceneParams p = static_courtyard();
+  p.ego_velocity_mps = {5.0, 0.0, 0.0};
+  p.range_noise_m = 0.025;
+  p.velocity_noise_mps = 0.031;
+  p.seed = 11;
+  const Eigen::Vector3d head(1.4, 0.0, 1.6);
+  for (int i = 0; i < 34; ++i) {
+    for (int j = 0; j < 10; ++j) {
+      const double az = (-55.0 + 110.0 * i / 33.0) * M_PI / 180.0;
+      const double el = (-5.0 + 19.0 * j / 9.0) * M_PI / 180.0;
+      const Eigen::Vector3d e(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+      core::SyntheticBox box;
+      box.center_m = head + 15.0 * e;
+      box.half_extent_m = Eigen::Vector3d::Constant(0.15);
+      box.velocity_mps = (1.0 + 0.25 * ((i + 3 * j) % 8)) * e;
+      p.actors.push_back(box);
+    }
+  }
   return p;
 }
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "fmcw/core/errors.hpp"
 #include "fmcw/core/grid_projection.hpp"
 #include "fmcw/core/motion_pipeline.hpp"
 #include "fmcw/core/synthetic_scan.hpp"
@@ -29,11 +30,12 @@ GridProjectionParams small_grid() {
   return g;
 }
 
-template <typename F>
+// The message of the Error f throws, or "no error".
+template <typename Error = std::invalid_argument, typename F>
 std::string error_of(F&& f) {
   try {
     f();
-  } catch (const std::invalid_argument& e) {
+  } catch (const Error& e) {
     return e.what();
   }
   return "no error";
@@ -151,12 +153,14 @@ TEST(GridProjection, BadInputNamesThePointAndField) {
 
 // A bin typed in the wrong unit gives a grid of billions of pixels: refused naming the
 // parameter and the size it would give, computed without integer overflow.
+// A resource limit (LimitError), not a bad parameter: the resolution may be meant.
 TEST(GridProjection, HugeGridIsRefusedNamingTheParameterAndTheSize) {
   PointList points;
   add_point(points, 0.5, 0.5, 10.0, 0.0f);
   GridProjectionParams g;
   g.resolution_horizontal_deg = 1e-9;
-  for (const std::string& message : {error_of([&] { g.validate(); }), error_of([&] { project_to_grid(points, g); })}) {
+  for (const std::string& message :
+       {error_of<LimitError>([&] { g.validate(); }), error_of<LimitError>([&] { project_to_grid(points, g); })}) {
     EXPECT_NE(message.find("grid projection: resolution_horizontal_deg 1e-09 over fov_horizontal_deg 120 gives "
                            "1.2e+11 columns"),
               std::string::npos)
@@ -165,7 +169,7 @@ TEST(GridProjection, HugeGridIsRefusedNamingTheParameterAndTheSize) {
   }
   g = GridProjectionParams{};
   g.resolution_vertical_deg = 1e-9;
-  const std::string rows = error_of([&] { project_to_grid(points, g); });
+  const std::string rows = error_of<LimitError>([&] { project_to_grid(points, g); });
   EXPECT_NE(rows.find("resolution_vertical_deg 1e-09 over fov_vertical_deg 30 gives 3e+10 rows"), std::string::npos)
       << rows;
   // Each span fits an int, their product does not fit the pixel limit.
@@ -173,7 +177,7 @@ TEST(GridProjection, HugeGridIsRefusedNamingTheParameterAndTheSize) {
   g.fov_horizontal_deg = 360.0;
   g.resolution_horizontal_deg = 0.001;
   g.resolution_vertical_deg = 0.001;
-  const std::string both = error_of([&] { project_to_grid(points, g); });
+  const std::string both = error_of<LimitError>([&] { project_to_grid(points, g); });
   EXPECT_NE(both.find("grid projection: 30000 x 360000 pixels (1.08e+10) is more than the 67108864 a grid may have"),
             std::string::npos)
       << both;

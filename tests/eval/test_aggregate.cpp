@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fmcw/core/errors.hpp"
 #include "fmcw/eval/aggregate.hpp"
 #include "fmcw/eval/scenario_manifest.hpp"
 #include "fmcw/eval/table_writer.hpp"
@@ -149,7 +150,7 @@ TEST_F(Manifest, ErrorsNameTheFileAndLine) {
   EXPECT_NE(message("name,layout\ns1,a\ns1,b\n").find("m.csv:3: name 's1' repeats line 2"), std::string::npos);
   EXPECT_NE(message("name,layout\ns1,\"open\n").find("m.csv:2: unterminated"), std::string::npos);
   EXPECT_NE(message("").find("m.csv:1: empty"), std::string::npos);
-  EXPECT_THROW(read_scenario_manifest(path("missing.csv")), std::runtime_error);
+  EXPECT_THROW(read_scenario_manifest(path("missing.csv")), fmcw::core::FileError);  // a missing file is the file's fault
 }
 
 TEST(CsvTable, QuotedTextReadsBackAsWritten) {

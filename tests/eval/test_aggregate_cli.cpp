@@ -76,11 +76,12 @@ class AggregateCli : public fmcw::test::TempDirTest {
            "crowd,junction,1.4,20,3,none\n"
         << extra_rows;
   }
-  // Expects exit 1 with one error line naming `names`, and no aggregate report written.
+  // Expects the exit code of a bad file, one error line naming `names`, and no aggregate
+  // report written.
   void expect_rejected(const std::string& folder, const std::string& names) {
     const std::string out = path("report");
     const CliResult r = run("evaluate " + folder + " -o " + out + " --no-figures");
-    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_EQ(r.code, fmcw::test::kExitFile) << r.output;
     const std::vector<std::string> errors = error_lines(r.output);
     ASSERT_EQ(errors.size(), 1u) << r.output;
     EXPECT_EQ(errors[0].rfind("fmcw: error: ", 0), 0u) << errors[0];

@@ -38,11 +38,12 @@ class EvalCli : public fmcw::test::TempDirTest {
     EXPECT_EQ(r.code, 0) << r.output;
     return ds;
   }
-  // Evaluating ds must fail with one error line containing `names`, and write no report.
+  // Evaluating ds must fail as a bad file does, with one error line containing `names`, and
+  // write no report.
   void expect_rejected(const std::string& ds, const std::string& names) {
     const std::string out = path("report");
     const CliResult r = run("evaluate " + ds + " -o " + out);
-    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_EQ(r.code, fmcw::test::kExitFile) << r.output;
     const std::vector<std::string> errors = error_lines(r.output);
     ASSERT_EQ(errors.size(), 1u) << r.output;
     EXPECT_EQ(errors[0].rfind("fmcw: error: ", 0), 0u) << errors[0];
@@ -101,7 +102,7 @@ TEST_F(EvalCli, RunSimulatesEvaluatesAndRefusesToMixDatasets) {
   EXPECT_EQ(m.at("frames"), 2);
   EXPECT_TRUE(m.at("methods").contains("paper"));
   r = run("run " + scenario + " -o " + out + " --frames 1 --no-figures");
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage);
   EXPECT_NE(r.output.find("--overwrite"), std::string::npos) << r.output;
   r = run("run " + scenario + " -o " + out + " --frames 1 --no-figures --overwrite");
   ASSERT_EQ(r.code, 0) << r.output;

@@ -3,52 +3,13 @@
 
 #include <gtest/gtest.h>
 
-#include "fmcw/core/synthetic_scan.hpp"
 #include "fmcw/eval/evaluator.hpp"
+#include "support/synthetic_source.hpp"
 
 namespace fmcw::eval {
 namespace {
 
-// Frames rendered by core::render_synthetic_scan, with the frame truth filled in by hand.
-class SyntheticSource : public FrameSource {
- public:
-  explicit SyntheticSource(std::size_t frames) : frames_(frames) {
-    info_.scenario = "synthetic";
-    info_.path = "memory";
-  }
-  std::size_t size() const override { return frames_; }
-  core::Frame frame(std::size_t k) override {
-    core::SyntheticSceneParams p;
-    p.ego_velocity_mps = Eigen::Vector3d(8.0, 0.0, 0.0);
-    core::SyntheticBox wall;
-    wall.center_m = Eigen::Vector3d(60.0, 0.0, 5.0);
-    wall.half_extent_m = Eigen::Vector3d(0.5, 80.0, 5.0);
-    p.static_boxes.push_back(wall);
-    core::SyntheticBox car;
-    car.center_m = Eigen::Vector3d(25.0 - 0.6 * static_cast<double>(k), 3.0, 0.9);
-    car.half_extent_m = Eigen::Vector3d(2.2, 0.9, 0.75);
-    car.velocity_mps = Eigen::Vector3d(-6.0, 0.0, 0.0);
-    p.actors.push_back(car);
-    core::Frame f = core::render_synthetic_scan(p);
-    core::FrameTruth t;
-    t.stamp_s = 0.1 * static_cast<double>(k);
-    t.ego.velocity_mps = p.ego_velocity_mps;
-    core::ActorTruth a;
-    a.id = 1;
-    a.class_name = "car";
-    a.position_rig_m = car.center_m;
-    a.velocity_rig_mps = car.velocity_mps;
-    t.actors.push_back(a);
-    f.frame_truth = t;
-    return f;
-  }
-  std::string describe(std::size_t k) const override { return "synthetic frame " + std::to_string(k); }
-  const SourceInfo& info() const override { return info_; }
-
- private:
-  std::size_t frames_;
-  SourceInfo info_;
-};
+using test::SyntheticSource;
 
 TEST(Evaluator, ExactOnANoiseFreeRigidScene) {
   SyntheticSource source(3);

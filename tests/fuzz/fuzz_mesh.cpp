@@ -3,9 +3,9 @@
 // the GLB binary chunk, accessors, sparse substitutions, nodes, skins with every JOINTS_n /
 // WEIGHTS_n set, clips); any other glTF through assimp. Each input is tried as mesh.gltf and,
 // when it starts with the GLB magic "glTF", also as mesh.glb. Bad input may only end in
-// std::invalid_argument; anything else is a bug. A file that loads has its clips sampled
-// (before, inside, at the end of and after their keys), and a pose or rate that is not finite
-// aborts: the simulator takes them as they come.
+// std::invalid_argument (core::FileError) or core::LimitError; anything else is a bug. A file
+// that loads has its clips sampled (before, inside, at the end of and after their keys), and a
+// pose or rate that is not finite aborts: the simulator takes them as they come.
 
 #include <cstddef>
 #include <cstdint>
@@ -13,6 +13,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "fmcw/core/errors.hpp"
 #include "fmcw/sim/mesh_asset.hpp"
 #include "fuzz_input_file.hpp"
 
@@ -43,7 +44,8 @@ void load(const std::string& name, const std::uint8_t* data, std::size_t size) {
   const std::string path = fmcw::fuzz::write_input(name, data, size);
   try {
     sample_clips(fmcw::sim::load_mesh_asset(path, {{"skin", 0.4f}}, 0.3f));
-  } catch (const std::invalid_argument&) {
+  } catch (const std::invalid_argument&) {  // core::FileError, core::InputError
+  } catch (const fmcw::core::LimitError&) {
   }
 }
 

@@ -1,11 +1,13 @@
 // libFuzzer target: the PCD reader, a frame built from what it read, and the default motion
-// method on that frame. Bad input may only end in std::invalid_argument (the documented error);
-// any other exception, a crash, a leak, undefined behaviour or a runaway allocation is a bug.
+// method on that frame. Bad input may only end in the documented errors (core::FileError or
+// core::InputError, both std::invalid_argument, or core::LimitError); any other exception, a
+// crash, a leak, undefined behaviour or a runaway allocation is a bug.
 
 #include <cstddef>
 #include <cstdint>
 #include <stdexcept>
 
+#include "fmcw/core/errors.hpp"
 #include "fmcw/core/motion_pipeline.hpp"
 #include "fmcw/io/pcd.hpp"
 #include "fuzz_input_file.hpp"
@@ -20,7 +22,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       static fmcw::core::MotionPipeline pipeline;
       (void)pipeline.process(frame.scan);
     }
-  } catch (const std::invalid_argument&) {
+  } catch (const std::invalid_argument&) {  // core::FileError, core::InputError
+  } catch (const fmcw::core::LimitError&) {
   }
   return 0;
 }

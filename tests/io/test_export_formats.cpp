@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <tuple>
@@ -14,6 +15,7 @@
 #include "fmcw/io/point_colors.hpp"
 #include "fmcw/io/point_labels.hpp"
 #include "fmcw/io/semantic_kitti.hpp"
+#include "support/ply_reader.hpp"
 #include "support/temp_dir.hpp"
 
 namespace fmcw::io {
@@ -80,10 +82,28 @@ TEST_F(ExportTest, PlyRefusesWhatItCannotWrite) {
   PcdCloud c = cloud();
   c.fields.push_back({"big", 'U', 8, {0, 0, 0, 0}});
   EXPECT_THROW(write_ply(path("a.ply"), c), std::invalid_argument);
+  EXPECT_FALSE(std::filesystem::exists(path("a.ply")));
+  // A field named red is a field like any other when no colour is asked for.
   c = cloud();
-  c.fields.push_back({"red", 'U', 1, {0, 0, 0, 0}});
-  EXPECT_NO_THROW(write_ply(path("b.ply"), c));
+  c.fields.push_back({"red", 'U', 1, {0, 5, 9, 255}});
+  EXPECT_EQ(write_ply(path("b.ply"), c), 3u);
+  const test::PlyVertices b = test::read_ply(path("b.ply"));
+  EXPECT_EQ(b.comments, (std::vector<std::string>{"written by fmcw export", "fmcw_stamp 0"}));
+  EXPECT_EQ(b.names, (std::vector<std::string>{"x", "y", "z", "v", "intensity", "instance", "moving", "label", "red"}));
+  EXPECT_EQ(b.types.at("red"), "uchar");
+  EXPECT_EQ(b.types.at("label"), "int");
+  ASSERT_EQ(b.count, 3u);
+  // Cloud points 0, 2 and 3: point 1 has no return.
+  EXPECT_EQ(b.values.at("x"), (std::vector<double>{1, 3, 4}));
+  EXPECT_EQ(b.values.at("y"), (std::vector<double>{0.5, -0.5, 0}));
+  EXPECT_EQ(b.values.at("v"), (std::vector<double>{-20, 0, 2.5}));
+  EXPECT_EQ(b.values.at("instance"), (std::vector<double>{0, 7, 70000}));
+  EXPECT_EQ(b.values.at("label"), (std::vector<double>{0, 2, -2}));
+  EXPECT_EQ(b.values.at("red"), (std::vector<double>{0, 9, 255}));
+  // Colours on top of it are refused, and the file written before is left whole.
+  const std::string before = bytes("b.ply");
   EXPECT_THROW(write_ply(path("b.ply"), c, doppler_colors(c, 1.0, "t")), std::invalid_argument);
+  EXPECT_EQ(bytes("b.ply"), before);
 }
 
 TEST_F(ExportTest, SemanticKittiPacksClassLowAndInstanceHigh) {

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "fmcw/core/errors.hpp"
 #include "fmcw/core/synthetic_scan.hpp"
 #include "fmcw/io/frame_input.hpp"
 #include "fmcw/io/pcd.hpp"
@@ -18,12 +19,14 @@ namespace fs = std::filesystem;
 class PcdTest : public fmcw::test::TempDirTest {
  protected:
   void write_text(const std::string& name, const std::string& text) const { write(name, text); }
-  // Expects read_frame(path) to throw std::invalid_argument whose message holds every fragment.
+  // Expects read_frame(path) to throw an Error (the file's fault, unless said otherwise) whose
+  // message holds every fragment.
+  template <typename Error = core::FileError>
   void expect_error(const std::string& name, const std::vector<std::string>& fragments) const {
     try {
       read_frame(path(name));
       FAIL() << "expected an error for " << name;
-    } catch (const std::invalid_argument& e) {
+    } catch (const Error& e) {
       for (const auto& f : fragments) EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
     }
   }
@@ -124,6 +127,18 @@ std::string header(const std::string& fields, const std::string& sizes, const st
          "\nHEIGHT " + std::to_string(h) + "\nPOINTS " + std::to_string(points) + "\nDATA " + data + "\n";
 }
 
+TEST_F(PcdTest, AMissingFileIsAFileErrorAndABadWriteArgumentAnInputError) {
+  expect_error("missing.pcd", {"missing.pcd"});
+  fs::create_directories(path("folder.pcd"));
+  expect_error("folder.pcd", {"folder.pcd: is a directory"});
+  PcdCloud cloud;
+  cloud.width = 2;
+  cloud.height = 1;
+  cloud.fields = {{"x", 'F', 4, {1.0}}};  // one value for two points
+  EXPECT_THROW(write_pcd(path("w.pcd"), cloud), core::InputError);
+  EXPECT_FALSE(fs::exists(path("w.pcd")));
+}
+
 TEST_F(PcdTest, TruncatedDataIsReportedWithSizes) {
   write_text("t.pcd", header("x y z v", "4 4 4 4", "F F F F", 2, 2, 4) + std::string(40, '\0'));
   expect_error("t.pcd", {"t.pcd", "truncated PCD", "64 bytes", "40 bytes"});
@@ -149,7 +164,7 @@ TEST_F(PcdTest, HeaderThatLiesAboutItsSizeIsRejected) {
   expect_error("bigascii.pcd", {"truncated PCD: header promises 1600000000 points of 4 values but only 8 bytes follow"});
   write_text("cnt.pcd", "VERSION 0.7\nFIELDS x y z v\nSIZE 4 4 4 8\nTYPE F F F F\nCOUNT 1 1 1 2147483647\nWIDTH 40000\n"
                         "HEIGHT 40000\nPOINTS 1600000000\nDATA binary\n");
-  expect_error("cnt.pcd", {"POINTS: 1600000000 points of", "is more data than a file can hold"});
+  expect_error<core::LimitError>("cnt.pcd", {"POINTS: 1600000000 points of", "is more data than a file can hold"});
   write_text("asc.pcd", header("x y z v", "4 4 4 4", "F F F F", 2, 2, 4, "ascii") + "1 2 3 4\n1 2 3 4\n1 2 3 4\n");
   expect_error("asc.pcd", {"asc.pcd: truncated PCD: header promises 4 points"});
 }

@@ -221,7 +221,7 @@ def test_ply_coloured_by_class(intersection, tmp_path):
 
 def expect_one_error(args, output, *parts):
     proc = run_cli(*args, expect_ok=False)
-    assert proc.returncode == 1, proc.stderr
+    assert proc.returncode == 3, proc.stderr  # the input's fault: a file missing or without what is needed
     errors = [line for line in proc.stderr.splitlines() if line.startswith("fmcw: error: ")]
     assert len(errors) == 1, proc.stderr
     for part in parts:

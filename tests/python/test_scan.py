@@ -97,6 +97,25 @@ def test_scan_round_trips_through_pcd(tmp_path):
         fmcw.read_frame(str(tmp_path / "missing.pcd"))
 
 
+def test_errors_are_typed_by_whose_fault_they_are(tmp_path):
+    # A file that is missing or malformed: fmcw.FileError, both a ValueError and an OSError.
+    with pytest.raises(fmcw.FileError, match="missing.pcd") as error:
+        fmcw.read_frame(str(tmp_path / "missing.pcd"))
+    assert isinstance(error.value, ValueError) and isinstance(error.value, OSError)
+    (tmp_path / "bad.pcd").write_text("VERSION 0.7\nFIELDS x y z v\n")
+    with pytest.raises(OSError, match="bad.pcd: PCD header has no SIZE line"):
+        fmcw.read_frame(str(tmp_path / "bad.pcd"))
+    # A bad argument: fmcw.InputError, a ValueError and not an OSError.
+    s = room_scan()
+    with pytest.raises(fmcw.InputError, match="'v' has shape") as error:
+        fmcw.Scan(s["x"], s["y"], s["z"], s["v"][:, :-1])
+    assert isinstance(error.value, ValueError) and not isinstance(error.value, OSError)
+    with pytest.raises(fmcw.InputError, match="velocity_threshold"):
+        params = fmcw.MotionPipelineParams("fast")
+        params.segmentation.velocity_threshold_mps = -1.0
+        fmcw.MotionPipeline(params)
+
+
 def test_a_stamp_must_be_a_finite_time():
     s = room_scan()
     for bad in (float("nan"), float("inf"), -float("inf")):
@@ -110,10 +129,12 @@ def test_a_stamp_must_be_a_finite_time():
 
 def test_project_points_refuses_a_huge_grid_without_overflow():
     x, y, z, v = (np.ones(3, dtype=np.float32) for _ in range(4))
-    with pytest.raises(ValueError) as error:
+    # A resource limit, not a bad value: fmcw.LimitError, a RuntimeError.
+    with pytest.raises(fmcw.LimitError) as error:
         fmcw.project_points(x, y, z, v, res_h=1e-9)
+    assert isinstance(error.value, RuntimeError) and not isinstance(error.value, ValueError)
     assert "resolution_horizontal_deg 1e-09 over fov_horizontal_deg 120 gives 1.2e+11 columns" in str(error.value)
-    with pytest.raises(ValueError) as error:
+    with pytest.raises(fmcw.LimitError) as error:
         fmcw.project_points(x, y, z, v, res_h=1e-9, res_v=1e-9)
     assert "-2147483648" not in str(error.value)
 

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "fmcw/core/errors.hpp"
 #include "fmcw/sim/scenario.hpp"
 #include "support/temp_dir.hpp"
 
@@ -16,13 +17,15 @@ const std::string kSource = FMCW_SOURCE_DIR;
 
 class ScenarioFiles : public fmcw::test::TempDirTest {
  protected:
-  // The scenario text must fail to load with a message holding every fragment.
+  // The scenario text must fail to load with an Error (the file's fault, unless said otherwise)
+  // whose message holds every fragment.
+  template <typename Error = core::FileError>
   void expect_error(const std::string& text, const std::vector<std::string>& fragments) {
     const std::string path = write("s.yaml", text);
     try {
       load_scenario(path);
       FAIL() << "expected an error for:\n" << text;
-    } catch (const std::invalid_argument& e) {
+    } catch (const Error& e) {
       for (const auto& f : fragments) EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
     }
   }
@@ -104,11 +107,26 @@ TEST_F(ScenarioFiles, RigErrorsNameTheHead) {
   expect_error("rig:\n  heads:\n    - {name: a, fov_deg: [0.01, 30]}\n", {"gives no pixels"});
   expect_error("rig:\n  heads:\n    - {name: a, max_range_m: 0}\n", {"max range must be > 0"});
   // A resolution in the wrong unit: 6e12 pixels refused before anything is allocated.
-  expect_error("rig:\n  heads:\n    - {name: a, fov_deg: [360, 170], resolution_deg: [0.0001, 0.0001]}\n",
-               {"s.yaml:3: rig.heads[0]", "head 'a'", "pixels, more than the 16777216 a head may have"});
+  expect_error<core::LimitError>("rig:\n  heads:\n    - {name: a, fov_deg: [360, 170], resolution_deg: [0.0001, 0.0001]}\n",
+                                 {"s.yaml:3: rig.heads[0]", "head 'a'", "pixels, more than the 16777216 a head may have"});
   expect_error("rig: nowhere.yaml\n", {"rig config", "nowhere.yaml' does not exist"});
   // A name the system rejects (longer than PATH_MAX) is reported like a missing file.
   expect_error("rig: " + std::string(5000, 'r') + "\n", {"s.yaml:1: rig", "does not exist"});
+}
+
+// The three kinds of error a scenario can end in: a parameter out of range in the file and a
+// missing file are the file's fault (core::FileError), a scenario over the memory budget is a
+// resource limit (core::LimitError, not a std::invalid_argument).
+TEST_F(ScenarioFiles, ErrorsAreTypedByWhoseFaultTheyAre) {
+  expect_error("rig:\n  heads:\n    - {name: a, max_range_m: 0}\n", {"s.yaml:3: rig.heads[0]", "max range must be > 0"});
+  EXPECT_THROW(load_scenario(path("missing.yaml")), core::FileError);
+  try {
+    load_scenario(kSource + "/scenarios/straight_road.yaml", std::uint64_t{1} << 20);
+    FAIL() << "expected the memory budget to refuse the scenario";
+  } catch (const core::LimitError& e) {
+    EXPECT_NE(std::string(e.what()).find("over the memory budget of 1 MB"), std::string::npos) << e.what();
+    EXPECT_EQ(dynamic_cast<const std::invalid_argument*>(&e), nullptr);
+  }
 }
 
 TEST_F(ScenarioFiles, MeshProblemsAreNamed) {

@@ -12,6 +12,12 @@
 
 namespace fmcw::test {
 
+/// The CLI's exit codes by the kind of error (README, "Exit codes").
+constexpr int kExitOther = 1;  ///< anything else (an output not written, a frame not estimable)
+constexpr int kExitUsage = 2;  ///< usage or bad input: command line, option values, output folder
+constexpr int kExitFile = 3;   ///< a file that is missing, unreadable or malformed
+constexpr int kExitLimit = 4;  ///< a resource limit: memory budget, sizes, thread counts
+
 struct CliResult {
   int code = -1;       ///< exit code, or 128 + signal
   std::string output;  ///< stdout and stderr

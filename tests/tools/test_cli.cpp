@@ -4,6 +4,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +18,10 @@ namespace {
 namespace fs = std::filesystem;
 
 using fmcw::test::CliResult;
+using fmcw::test::kExitFile;
+using fmcw::test::kExitLimit;
+using fmcw::test::kExitOther;
+using fmcw::test::kExitUsage;
 using fmcw::test::slurp;
 
 CliResult run(const std::string& args) { return fmcw::test::run_cli(args); }
@@ -67,16 +72,54 @@ TEST_F(Cli, DatasetFolderIsProcessedFrameByFrame) {
   EXPECT_EQ(lines, 3);
 }
 
+// The exit code says what kind of error stopped the command (README, "Exit codes"), and the
+// error is one line on stderr, whatever its kind: 2 usage or bad input, 3 a bad file, 4 a
+// resource limit, 1 anything else.
+TEST_F(Cli, ExitCodeSaysWhatKindOfError) {
+  const std::string scenario = std::string(FMCW_SOURCE_DIR) + "/scenarios/straight_road.yaml";
+  const auto expect = [&](const std::string& args, int code, const std::string& message) {
+    const CliResult r = run(args);
+    EXPECT_EQ(r.code, code) << args << "\n" << r.output;
+    EXPECT_EQ(fmcw::test::error_lines(r.output).size(), 1u) << args << "\n" << r.output;
+    EXPECT_EQ(r.output.rfind("fmcw: error: ", 0), 0u) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << args << "\n" << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << "\n" << r.output;
+  };
+  // 2: what the command line parser refuses, and values the program refuses.
+  expect("process " + p("f.pcd"), kExitUsage, "fmcw: error: --output is required (see fmcw process --help)");
+  expect("process " + p("f.pcd") + " -o " + p("o") + " --no-such-option", kExitUsage, "--no-such-option");
+  expect("", kExitUsage, "A subcommand is required (see fmcw --help)");
+  expect("simulate " + scenario + " -o " + p("s") + " --shard 4/4", kExitUsage, "--shard '4/4': expected I/N with 0 <= I < N");
+  // 3: a file that is missing, or holds what it may not.
+  expect("process " + p("nope.pcd") + " -o " + p("o"), kExitFile, "input '" + p("nope.pcd") + "' does not exist");
+  std::ofstream(p("bad.yaml")) << "name: x\nframes: 2\nrig:\n  heads:\n    - {name: a, rate_hz: -10}\n";
+  expect("simulate " + p("bad.yaml") + " -o " + p("s"), kExitFile, "bad.yaml:5: rig.heads[0]: head 'a': rate must be > 0 Hz");
+  // 4: a resource limit.
+  expect("simulate " + scenario + " -o " + p("s") + " --max-memory 1", kExitLimit, "over the memory budget of 1 MB");
+  expect("simulate " + scenario + " -o " + p("s") + " --threads 1000", kExitLimit, "num_threads (--threads) must be in [0, 256]");
+  // 1: anything else, here a frame the method cannot estimate.
+  std::ofstream(p("empty.pcd")) << "VERSION 0.7\nFIELDS x y z v\nSIZE 4 4 4 4\nTYPE F F F F\nWIDTH 2\nHEIGHT 2\n"
+                                << "POINTS 4\nDATA ascii\nnan nan nan nan\nnan nan nan nan\nnan nan nan nan\nnan nan nan nan\n";
+  expect("process " + p("empty.pcd") + " -o " + p("o"), kExitOther, "empty.pcd: scan has no valid pixels");
+  EXPECT_FALSE(fs::exists(dir_ / "s" / "dataset.yaml"));
+  EXPECT_FALSE(fs::exists(dir_ / "o" / "ego.csv"));
+  // --help lists the codes and succeeds.
+  const CliResult help = run("--help");
+  EXPECT_EQ(help.code, 0) << help.output;
+  EXPECT_NE(help.output.find("Exit codes: 0 success; 1 any other failure"), std::string::npos) << help.output;
+  EXPECT_EQ(run("process --help").code, 0);
+}
+
 TEST_F(Cli, BadInputGivesOneClearLineAndNonZeroExit) {
   CliResult r = run("process " + p("nope.pcd") + " -o " + p("out"));
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, kExitFile);
   EXPECT_EQ(r.output, "fmcw: error: input '" + p("nope.pcd") + "' does not exist\n");
 
   std::ofstream(p("trunc.pcd"), std::ios::binary)
       << "VERSION 0.7\nFIELDS x y z v\nSIZE 4 4 4 4\nTYPE F F F F\nWIDTH 4\nHEIGHT 2\nPOINTS 8\nDATA binary\n"
       << std::string(10, '\0');
   r = run("process " + p("trunc.pcd") + " -o " + p("out"));
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, kExitFile);
   EXPECT_NE(r.output.find("trunc.pcd: truncated PCD"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir_ / "out" / "ego.csv")) << "no half-written tables";
 
@@ -85,16 +128,16 @@ TEST_F(Cli, BadInputGivesOneClearLineAndNonZeroExit) {
       << "VERSION 0.7\nFIELDS x y z v\nSIZE 4 4 4 4\nTYPE F F F F\nWIDTH 2\nHEIGHT 2\nPOINTS 4\nDATA ascii\n"
       << "5 0 0 1\n5 1 0 3\n5 0 1 5\n5 1 1 7\n";
   r = run("process " + p("nostatic.pcd") + " -o " + p("out2"));
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, kExitOther);
   EXPECT_NE(r.output.find("nostatic.pcd: ego velocity not estimable:"), std::string::npos) << r.output;
   r = run("process " + p("nostatic.pcd") + " -o " + p("out2b") + " --method fast");
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, kExitOther);
   EXPECT_NE(r.output.find("nostatic.pcd: ego velocity not estimable: 1 static points"), std::string::npos) << r.output;
 
   std::ofstream(p("empty.pcd")) << "VERSION 0.7\nFIELDS x y z v\nSIZE 4 4 4 4\nTYPE F F F F\nWIDTH 2\nHEIGHT 2\n"
                                 << "POINTS 4\nDATA ascii\nnan nan nan nan\nnan nan nan nan\nnan nan nan nan\nnan nan nan nan\n";
   r = run("process " + p("empty.pcd") + " -o " + p("out3"));
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, kExitOther);
   EXPECT_NE(r.output.find("empty.pcd: scan has no valid pixels"), std::string::npos) << r.output;
 
   r = run("process " + p("empty.pcd") + " -o " + p("out4") + " --method magic");
@@ -119,14 +162,14 @@ TEST_F(Cli, AFrameThatFailsLeavesNoOutputBehind) {
     for (int i = 0; i < 90000; ++i) second << "nan nan nan nan\n";
   }
   CliResult r = run("process " + p("ds") + " -o " + p("out"));
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, kExitOther);
   EXPECT_NE(r.output.find("000001.pcd: scan has no valid pixels"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir_ / "out")) << "the folder the run made is removed";
   // Into a folder that holds other files already: those stay, nothing of the run does.
   fs::create_directories(dir_ / "mine");
   std::ofstream(p("mine/notes.txt")) << "keep\n";
   r = run("process " + p("ds") + " -o " + p("mine"));
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, kExitOther);
   EXPECT_EQ(slurp(dir_ / "mine" / "notes.txt"), "keep\n");
   std::vector<std::string> left;
   for (const auto& e : fs::recursive_directory_iterator(dir_ / "mine")) left.push_back(e.path().filename().string());
@@ -171,21 +214,21 @@ TEST_F(Cli, SimulateWritesACompleteDatasetIdenticalForAnyThreadCount) {
 TEST_F(Cli, SimulateRejectsBadScenariosAndOccupiedFolders) {
   std::ofstream(p("bad.yaml")) << "name: x\nframes: 2\nrig:\n  heads:\n    - {name: a, rate_hz: -10}\n";
   CliResult r = run("simulate " + p("bad.yaml") + " -o " + p("out"));
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, kExitFile);
   EXPECT_NE(r.output.find("bad.yaml:5: rig.heads[0]: head 'a': rate must be > 0 Hz, got -10"), std::string::npos)
       << r.output;
   EXPECT_FALSE(fs::exists(dir_ / "out")) << "nothing is written for a bad scenario";
 
   std::ofstream(p("typo.yaml")) << "name: x\nframs: 2\n";
   r = run("simulate " + p("typo.yaml") + " -o " + p("out"));
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, kExitFile);
   EXPECT_NE(r.output.find("typo.yaml:2: unknown key 'frams'"), std::string::npos) << r.output;
 
   fs::create_directories(dir_ / "full");
   std::ofstream(dir_ / "full" / "keep.txt") << "x";
   std::ofstream(p("ok.yaml")) << "frames: 1\n";
   r = run("simulate " + p("ok.yaml") + " -o " + p("full"));
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, kExitUsage);
   EXPECT_NE(r.output.find("exists and is not empty"), std::string::npos) << r.output;
 }
 
@@ -208,7 +251,7 @@ TEST_F(Cli, ClipsThatDoNotPlayAreSaidOnceAndABadClipStopsTheRun) {
   std::ofstream(p("bad.yaml")) << "frames: 1\nactors:\n  - {id: 1, class: pedestrian, mesh: " << walker
                                << ", animation: {clip: run}, trajectory: {type: static}}\n";
   r = run("simulate " + p("bad.yaml") + " -o " + p("bad"));
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, kExitFile);
   EXPECT_NE(r.output.find("bad.yaml:3: actors[0]: animation.clip: mesh '" + walker + "' has no clip 'run'; its clips: 'walk', 'idle'"),
             std::string::npos)
       << r.output;

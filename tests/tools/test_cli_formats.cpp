@@ -15,6 +15,7 @@
 #include "fmcw/io/aeva.hpp"
 #include "fmcw/io/pcd.hpp"
 #include "support/cli.hpp"
+#include "support/ply_reader.hpp"
 #include "support/temp_dir.hpp"
 
 namespace {
@@ -122,7 +123,7 @@ TEST_F(CliFormats, ProcessProjectsAnUnorganizedCloud) {
   fmcw::io::write_pcd(path("points.pcd"), cloud);
   // As an organized frame it is refused, with the reason.
   const CliResult organized = run_cli("process " + path("points.pcd") + " -o " + path("no"));
-  EXPECT_EQ(organized.code, 1);
+  EXPECT_EQ(organized.code, fmcw::test::kExitFile);
   EXPECT_NE(organized.output.find("HEIGHT 1"), std::string::npos) << organized.output;
   const CliResult r = run_cli("process --format points " + path("points.pcd") + " -o " + path("out") + " --method fast");
   ASSERT_EQ(r.code, 0) << r.output;
@@ -147,6 +148,20 @@ TEST_F(CliFormats, ExportWritesEachFormatForEveryFrame) {
   const fmcw::core::Frame a = fmcw::io::read_frame(path("in/a.pcd"));
   const fmcw::core::Frame back = fmcw::io::read_frame(path("pcd/a.pcd"));
   EXPECT_EQ(fs::file_size(dir_ / "kitti/velodyne/a.bin"), a.scan.num_valid() * 16);
+  // The PLY holds every point with a return, in pixel order, at its position and Doppler, and
+  // a colour per point.
+  const fmcw::test::PlyVertices ply = fmcw::test::read_ply(path("ply/a.ply"));
+  ASSERT_EQ(ply.count, a.scan.num_valid());
+  for (const char* name : {"x", "y", "z", "v", "red", "green", "blue"}) ASSERT_EQ(ply.values.count(name), 1u) << name;
+  std::size_t vertex = 0;
+  for (std::size_t i = 0; i < a.scan.size(); ++i) {
+    if (!a.scan.valid[i]) continue;
+    ASSERT_EQ(ply.values.at("x")[vertex], a.scan.x_m[i]) << "pixel " << i;
+    ASSERT_EQ(ply.values.at("y")[vertex], a.scan.y_m[i]) << "pixel " << i;
+    ASSERT_EQ(ply.values.at("z")[vertex], a.scan.z_m[i]) << "pixel " << i;
+    ASSERT_EQ(ply.values.at("v")[vertex], a.scan.radial_velocity_mps[i]) << "pixel " << i;
+    ++vertex;
+  }
   EXPECT_EQ(back.scan.radial_velocity_mps.size(), a.scan.radial_velocity_mps.size());
   EXPECT_TRUE(std::equal(a.scan.x_m.begin(), a.scan.x_m.end(), back.scan.x_m.begin(),
                          [](float p, float q) { return (std::isnan(p) && std::isnan(q)) || p == q; }));
@@ -176,7 +191,7 @@ TEST_F(CliFormats, ProcessRefusesAFrameOfAnotherRig) {
     fmcw::io::write_frame(path("in/a.pcd"), first);
     fmcw::io::write_frame(path("in/b.pcd"), c.second);
     const CliResult r = run_cli("process " + path("in") + " -o " + path("out"));
-    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_EQ(r.code, fmcw::test::kExitFile) << r.output;
     EXPECT_NE(r.output.find("fmcw: error: " + path("in/") + c.message), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(dir_ / "out")) << "the run leaves nothing behind";
   }
@@ -191,11 +206,11 @@ TEST_F(CliFormats, HugeInputIsRefusedWithoutBeingRead) {
   write("big.pcd", "VERSION");
   ASSERT_EQ(::truncate(path("big.pcd").c_str(), two_gib), 0);
   CliResult r = run_cli("process --format aeva " + path("big.bin") + " -o " + path("o1"));
-  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_EQ(r.code, fmcw::test::kExitFile) << r.output;
   EXPECT_NE(r.output.find("big.bin: size 2147483648 bytes is not a whole number of Aeva records"), std::string::npos)
       << r.output;
   r = run_cli("process " + path("big.pcd") + " -o " + path("o2"));
-  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_EQ(r.code, fmcw::test::kExitFile) << r.output;
   EXPECT_NE(r.output.find("big.pcd:1: header line too long"), std::string::npos) << r.output;
   fs::remove(path("big.bin"));
   fs::remove(path("big.pcd"));
@@ -215,25 +230,28 @@ TEST_F(CliFormats, BadInputGetsOneErrorLine) {
   struct Case {
     std::string args;
     std::string message;
+    int code;  // the file's fault unless an option's
   };
+  using fmcw::test::kExitFile;
   const std::vector<Case> cases = {
       {"process --format aeva " + path("bad.bin") + " -o " + path("o1"),
-       "bad.bin: size 26 bytes is not a whole number of Aeva records"},
+       "bad.bin: size 26 bytes is not a whole number of Aeva records", kExitFile},
       {"process --format aeva --aeva-lines 100 " + path("scan.bin") + " -o " + path("o2"),
-       "is out of range [0, 100) (the sensor has 100 lines)"},
+       "is out of range [0, 100) (the sensor has 100 lines)", kExitFile},
       {"process --format aeva --res-h 0.7 " + path("scan.bin") + " -o " + path("o3"),
-       "fov_horizontal_deg (120) must be a whole multiple of resolution_horizontal_deg (0.7)"},
+       "fov_horizontal_deg (120) must be a whole multiple of resolution_horizontal_deg (0.7)", fmcw::test::kExitUsage},
       {"export --format aeva " + path("scan.bin") + " -o " + path("o4") + " --to kitti",
-       "no labels: the cloud has neither 'label'"},
-      {"export " + path("nothing") + " -o " + path("o5") + " --to ply", "does not exist"},
+       "no labels: the cloud has neither 'label'", kExitFile},
+      {"export " + path("nothing") + " -o " + path("o5") + " --to ply", "does not exist", kExitFile},
       // (the output outside the input folder: inside it would be refused before bad.bin is read)
-      {"process --format aeva " + dir_.string() + " -o " + dir_.string() + "_o6", "bad.bin"},
+      {"process --format aeva " + dir_.string() + " -o " + dir_.string() + "_o6", "bad.bin", kExitFile},
       {"process --format aeva --res-h 1e-9 " + path("scan.bin") + " -o " + path("o7"),
-       "grid projection: resolution_horizontal_deg 1e-09 over fov_horizontal_deg 120 gives 1.2e+11 columns"},
+       "grid projection: resolution_horizontal_deg 1e-09 over fov_horizontal_deg 120 gives 1.2e+11 columns",
+       fmcw::test::kExitLimit},
   };
   for (const Case& c : cases) {
     const CliResult r = run_cli(c.args);
-    EXPECT_EQ(r.code, 1) << c.args << "\n" << r.output;
+    EXPECT_EQ(r.code, c.code) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find("fmcw: error: "), std::string::npos) << r.output;
     EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
   }

@@ -64,11 +64,12 @@ class DataSafety : public fmcw::test::TempDirTest {
     yaml.replace(at, from.size(), to);
     return write(name, yaml);
   }
-  // Expects `fmcw simulate FILE -o OUT` to fail with exit 1 and a message holding part, and
-  // to leave no output folder.
-  void expect_refused(const std::string& file, const std::string& part, const std::string& extra = "") {
+  // Expects `fmcw simulate FILE -o OUT` to fail with the exit code of a bad file (or code) and a
+  // message holding part, and to leave no output folder.
+  void expect_refused(const std::string& file, const std::string& part, const std::string& extra = "",
+                      int code = fmcw::test::kExitFile) {
     const auto r = run_cli("simulate " + file + " -o " + path("refused") + " " + extra);
-    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_EQ(r.code, code) << r.output;
     EXPECT_TRUE(has(r.output, part)) << r.output;
     EXPECT_EQ(fmcw::test::error_lines(r.output).size(), 1u) << r.output;
     EXPECT_FALSE(fs::exists(path("refused"))) << r.output;
@@ -82,11 +83,11 @@ TEST_F(DataSafety, MergeNeverWritesOverOrInsideOneOfItsShards) {
   simulate("-o " + path("b") + " --shard 1/2");
   const auto a = folder_bytes(dir_ / "a");
   auto r = run_cli("merge " + path("a") + " " + path("b") + " -o " + path("a") + " --overwrite");
-  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage) << r.output;
   EXPECT_TRUE(has(r.output, "fmcw: error: output '" + path("a") + "' is the input '" + path("a") +
                                 "': writing there could replace the input")) << r.output;
   r = run_cli("merge " + path("a") + " " + path("b") + " -o " + path("b") + "/merged");
-  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage) << r.output;
   EXPECT_TRUE(has(r.output, "lies inside the input '" + path("b") + "'")) << r.output;
   EXPECT_EQ(fmcw::test::first_difference(a, folder_bytes(dir_ / "a")), "");
 
@@ -94,11 +95,11 @@ TEST_F(DataSafety, MergeNeverWritesOverOrInsideOneOfItsShards) {
   fs::create_directories(dir_ / "notes");
   std::ofstream(dir_ / "notes" / "keep.txt") << "mine";
   r = run_cli("merge " + path("a") + " " + path("b") + " -o " + path("notes") + " --overwrite");
-  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage) << r.output;
   EXPECT_TRUE(has(r.output, "holds no dataset.yaml or frames/: --overwrite replaces only a dataset (or what a stopped merge left)")) << r.output;
   EXPECT_EQ(slurp(dir_ / "notes" / "keep.txt"), "mine");
   r = run_cli("simulate " + scenario_ + " -o " + path("notes") + " --overwrite");
-  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage) << r.output;
   EXPECT_TRUE(has(r.output, "holds no dataset.yaml or frames/: --overwrite replaces only a dataset that fmcw writes"))
       << r.output;
   EXPECT_EQ(slurp(dir_ / "notes" / "keep.txt"), "mine");
@@ -115,14 +116,14 @@ TEST_F(DataSafety, ExportAndProcessNeverWriteIntoTheirInput) {
   simulate("-o " + path("data"));
   const auto before = folder_bytes(dir_ / "data");
   auto r = run_cli("export " + path("data") + " -o " + path("data") + "/frames --to pcd");
-  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage) << r.output;
   EXPECT_TRUE(has(r.output, "output '" + path("data") + "/frames' lies inside the input '" + path("data") + "'"))
       << r.output;
   r = run_cli("export " + path("data") + "/frames/000001.pcd -o " + path("data") + "/frames --to pcd");
-  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage) << r.output;
   EXPECT_TRUE(has(r.output, "is the input file's folder")) << r.output;
   r = run_cli("process " + path("data") + " -o " + path("data"));
-  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage) << r.output;
   EXPECT_TRUE(has(r.output, "output '" + path("data") + "' is the input")) << r.output;
   EXPECT_EQ(fmcw::test::first_difference(before, folder_bytes(dir_ / "data")), "");
 }
@@ -189,11 +190,13 @@ TEST_F(DataSafety, ResumeReadsEveryKeptFrameAndSimulatesABadOneAgain) {
 TEST_F(DataSafety, ThreadCountsBeyondTheLimitAreOneError) {
   for (const char* n : {"100000", "65536", "1000"}) {
     expect_refused(scenario_, std::string("num_threads (--threads) must be in [0, 256] (0: all cores), got ") + n,
-                   std::string("--threads ") + n);
+                   std::string("--threads ") + n, fmcw::test::kExitLimit);
   }
   simulate("-o " + path("data") + " --frames 1");
+  // The pipeline's own check (core/src/motion_pipeline.cpp) is still an InputError; 4 like the
+  // simulator's once it throws a LimitError.
   const auto r = run_cli("process " + path("data") + " -o " + path("out") + " --threads 100000");
-  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage) << r.output;
   EXPECT_TRUE(has(r.output, "pipeline: num_threads (--threads) must be in [0, 256]")) << r.output;
 }
 
@@ -241,7 +244,8 @@ TEST_F(DataSafety, AKeyGivenTwiceIsAnErrorNamingBothLines) {
 TEST_F(DataSafety, ASeedOutOfRangeIsRefusedNotWrapped) {
   for (const char* seed : {"-1", "18446744073709551616", "1e23", "0x10"}) {
     const auto r = run_cli("simulate " + scenario_ + " -o " + path("s") + " --seed " + seed);
-    EXPECT_NE(r.code, 0) << r.output;
+    EXPECT_EQ(r.code, fmcw::test::kExitUsage) << r.output;
+    EXPECT_EQ(fmcw::test::error_lines(r.output).size(), 1u) << r.output;
     EXPECT_TRUE(has(r.output, std::string("--seed: '") + seed + "' is not a seed: expected a whole number from 0 to "
                               "18446744073709551615")) << r.output;
     EXPECT_FALSE(fs::exists(path("s")));
@@ -265,7 +269,7 @@ TEST_F(DataSafety, ScenariosOverTheMemoryBudgetFailFromTheEstimateWithLittleMemo
            {repeat, "repeat.yaml:13: static[0]: 100000 copies of '"},
            {eight, "heads.yaml:4: rig.heads: the 8 heads' 132859792 pixels would take about 32436 MB"}}) {
     const auto [kb, r] = run_measured("simulate " + file + " -o " + path("big") + " --max-memory 4096", dir_ / "measure.log");
-    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_EQ(r.code, fmcw::test::kExitLimit) << r.output;
     EXPECT_TRUE(has(r.output, part)) << r.output;
     EXPECT_TRUE(has(r.output, "over the memory budget of 4096 MB")) << r.output;
     EXPECT_GT(kb, 0);
@@ -274,7 +278,7 @@ TEST_F(DataSafety, ScenariosOverTheMemoryBudgetFailFromTheEstimateWithLittleMemo
   }
   // Without --max-memory the budget is half of the machine's memory: the same files fail.
   const auto r = run_cli("simulate " + repeat + " -o " + path("big"));
-  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_EQ(r.code, fmcw::test::kExitLimit) << r.output;
   EXPECT_TRUE(has(r.output, "(half of this machine's memory unless --max-memory says otherwise)")) << r.output;
 }
 

@@ -40,14 +40,14 @@ TEST_F(Generate, SameSeedSameBytesAndAManifestRowPerScenario) {
 TEST_F(Generate, OverwriteReplacesOnlyASetItWrote) {
   ASSERT_EQ(run_cli("generate --count 2 -o " + path("set")).code, 0);
   auto r = run_cli("generate --count 2 -o " + path("set"));
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage);
   EXPECT_NE(r.output.find("not empty"), std::string::npos) << r.output;
   EXPECT_EQ(run_cli("generate --count 1 -o " + path("set") + " --overwrite").code, 0);
   EXPECT_FALSE(fs::exists(dir_ / "set" / "scenarios" / "gen_00001.yaml"));  // the old set is gone
   fs::create_directories(dir_ / "mine");
   std::ofstream(dir_ / "mine" / "notes.txt") << "keep me";
   r = run_cli("generate --count 1 -o " + path("mine") + " --overwrite");
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage);
   EXPECT_NE(r.output.find("not"), std::string::npos) << r.output;
   EXPECT_EQ(slurp(dir_ / "mine" / "notes.txt"), "keep me");
 }
@@ -59,7 +59,7 @@ TEST_F(Generate, MalformedConfigIsOneErrorWithFileLineAndKey) {
                                             "classes: " + FMCW_SOURCE_DIR + "/configs/classes.yaml\n"
                                             "traffic:\n  stop_wait_s: [4, -1]\n");
   const auto r = run_cli("generate " + cfg + " --count 2 -o " + path("set"));
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, fmcw::test::kExitFile);
   EXPECT_NE(r.output.find("gen.yaml:6"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("traffic.stop_wait_s"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir_ / "set" / "manifest.csv"));
@@ -81,14 +81,14 @@ TEST_F(Generate, ASetSimulatesTaskByTaskIntoOneFolderPerScenario) {
   EXPECT_EQ(slurp(dir_ / "alone" / "objects.csv"), slurp(dir_ / "out" / "gen_00003" / "objects.csv"));
   // --task belongs to sets, --shard to one scenario.
   r = run_cli("simulate " + path("set") + " -o " + path("out2") + " --shard 0/2");
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage);
   EXPECT_NE(r.output.find("--task"), std::string::npos) << r.output;
   r = run_cli("simulate " + path("set") + " -o " + path("out3") + " --task 2/2");
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage);
   EXPECT_NE(r.output.find("--task '2/2'"), std::string::npos) << r.output;
   fs::remove(dir_ / "set" / "manifest.csv");
   r = run_cli("simulate " + path("set") + " -o " + path("out4"));
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, fmcw::test::kExitFile);
   EXPECT_NE(r.output.find("manifest.csv: no manifest here"), std::string::npos) << r.output;
 }
 

@@ -70,7 +70,7 @@ TEST_F(OutputFaults, FolderWithoutWritePermissionIsNamed) {
   // A file where the folder should be.
   std::ofstream(path("plain")) << "x";
   r = run_cli("simulate " + scenario_ + " -o " + path("plain"));
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage);
   EXPECT_NE(r.output.find("fmcw: error: output '" + path("plain") + "' exists and is not a folder"), std::string::npos)
       << r.output;
 }

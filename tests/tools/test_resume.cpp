@@ -12,6 +12,7 @@
 #include <fstream>
 #include <thread>
 
+#include "fmcw/io/dataset_header.hpp"
 #include "support/child_process.hpp"
 #include "support/cli.hpp"
 #include "support/dataset_files.hpp"
@@ -108,8 +109,7 @@ TEST_F(Resume, SigkillAtAnyPointIsRepairedByResume) {
   ASSERT_LT(n, kFrames);
   // Every frame dataset.yaml counts is whole; a frame or temporary file beyond them may be there.
   for (int k = 0; k < n; ++k) {
-    char name[32];
-    std::snprintf(name, sizeof name, "frames/%06d.pcd", k);
+    const std::string name = "frames/" + fmcw::io::frame_file_name(k);
     EXPECT_EQ(slurp(dir_ / "out" / name), expected.at(name)) << name;
   }
   resume("out");
@@ -129,7 +129,7 @@ TEST_F(Resume, ResumeRefusesOtherOptionsAndKnowsWhenItIsDone) {
   EXPECT_NE(r.output.find("is complete already (4 frames)"), std::string::npos) << r.output;
 
   r = run_cli("simulate " + scenario_ + " -o " + path("out") + " --frames 4 --seed 6 --resume");
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage);
   EXPECT_NE(r.output.find("dataset.yaml: the dataset was started with another scenario or options, first difference at "
                           "scenario line"),
             std::string::npos)
@@ -139,7 +139,7 @@ TEST_F(Resume, ResumeRefusesOtherOptionsAndKnowsWhenItIsDone) {
   fs::create_directories(dir_ / "other");
   std::ofstream(dir_ / "other" / "notes.txt") << "x";
   r = run_cli("simulate " + scenario_ + " -o " + path("other") + " --resume");
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage);
   EXPECT_NE(r.output.find("cannot resume: '" + path("other") + "' holds no dataset.yaml"), std::string::npos) << r.output;
 
   // An incomplete dataset is refused by evaluation, with the way out.
@@ -147,7 +147,7 @@ TEST_F(Resume, ResumeRefusesOtherOptionsAndKnowsWhenItIsDone) {
   yaml.replace(yaml.find("complete: true"), 14, "complete: false");
   std::ofstream(dir_ / "out" / "dataset.yaml", std::ios::binary) << yaml;
   r = run_cli("evaluate " + path("out") + " -o " + path("report") + " --no-figures");
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, fmcw::test::kExitFile);
   EXPECT_NE(r.output.find("the dataset is incomplete (its writer stopped early): finish it with `fmcw simulate ... --resume`"),
             std::string::npos)
       << r.output;

@@ -56,16 +56,16 @@ TEST_F(Shards, FourShardsMergedAreByteIdenticalToOneRun) {
 TEST_F(Shards, MergeNamesTheShardThatIsMissingIncompleteOrForeign) {
   for (int i = 0; i < 3; ++i) simulate("-o " + path("p" + std::to_string(i)) + " --shard " + std::to_string(i) + "/3");
   auto r = run_cli("merge " + path("p0") + " " + path("p2") + " -o " + path("m"));
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage);
   EXPECT_NE(r.output.find("p2/dataset.yaml: is shard 2 where shard 1 was expected"), std::string::npos) << r.output;
 
   r = run_cli("merge " + path("p0") + " " + path("p1") + " " + path("p1") + " " + path("p2") + " -o " + path("m"));
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage);
   EXPECT_NE(r.output.find("is shard 1 where shard 2 was expected"), std::string::npos) << r.output;
 
   simulate("-o " + path("seed7") + " --shard 1/3 --seed 7");
   r = run_cli("merge " + path("p0") + " " + path("seed7") + " " + path("p2") + " -o " + path("m"));
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, fmcw::test::kExitFile);
   EXPECT_NE(r.output.find("seed7/dataset.yaml: shard 1 comes from another scenario, options or fmcw version"),
             std::string::npos)
       << r.output;
@@ -74,17 +74,17 @@ TEST_F(Shards, MergeNamesTheShardThatIsMissingIncompleteOrForeign) {
   yaml.replace(yaml.find("complete: true"), 14, "complete: false");
   std::ofstream(dir_ / "p1" / "dataset.yaml", std::ios::binary) << yaml;
   r = run_cli("merge " + path("p0") + " " + path("p1") + " " + path("p2") + " -o " + path("m"));
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, fmcw::test::kExitFile);
   EXPECT_NE(r.output.find("p1/dataset.yaml: shard 1 is incomplete"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir_ / "m" / "dataset.yaml")) << "a failed merge leaves no dataset";
 
   r = run_cli("evaluate " + path("p0") + " -o " + path("report") + " --no-figures");
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, fmcw::test::kExitFile);
   EXPECT_NE(r.output.find("this is one shard of a dataset: join all shards with `fmcw merge` first"), std::string::npos)
       << r.output;
 
   r = run_cli("simulate " + scenario_ + " -o " + path("bad") + " --shard 3/3");
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, fmcw::test::kExitUsage);
   EXPECT_NE(r.output.find("--shard '3/3': expected I/N with 0 <= I < N"), std::string::npos) << r.output;
 }
 

@@ -5,6 +5,7 @@
 #include <map>
 
 #include "commands.hpp"
+#include "fmcw/core/errors.hpp"
 #include "fmcw/io/atomic_file.hpp"
 #include "fmcw/io/openpcdet.hpp"
 #include "fmcw/io/output_folder.hpp"
@@ -46,8 +47,8 @@ DatasetTables read_dataset_tables(const std::string& input, std::size_t frames) 
   tables.frames = io::read_truth_tables((dir / "ego.csv").string(), (dir / "objects.csv").string());
   tables.boxes = io::objects_csv_has_boxes((dir / "objects.csv").string());
   if (tables.frames.size() != frames) {
-    throw std::invalid_argument((dir / "ego.csv").string() + ": " + std::to_string(tables.frames.size()) +
-                                " frames in the tables, " + std::to_string(frames) + " frame files");
+    throw core::FileError((dir / "ego.csv").string() + ": " + std::to_string(tables.frames.size()) +
+                          " frames in the tables, " + std::to_string(frames) + " frame files");
   }
   return tables;
 }
@@ -70,23 +71,23 @@ void require_dataset_with_boxes(const InputFlags& flags, const DatasetTables& ta
       "--to openpcdet needs a dataset written by fmcw simulate (dataset.yaml, ego.csv and objects.csv with the box "
       "columns, beside frames/)";
   if (flags.format != "pcd") {
-    throw std::invalid_argument(input + ": --to openpcdet reads a dataset's own frames (--format pcd), not --format " +
-                                flags.format);
+    throw core::InputError(input + ": --to openpcdet reads a dataset's own frames (--format pcd), not --format " +
+                           flags.format);
   }
   const fs::path dir(input);
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) {
-    throw std::invalid_argument(input + ": not a dataset folder (no objects.csv, no boxes): " + needs);
+    throw core::FileError(input + ": not a dataset folder (no objects.csv, no boxes): " + needs);
   }
   for (const char* table : {"dataset.yaml", "ego.csv", "objects.csv"}) {
     if (!fs::exists(dir / table, ec)) {
-      throw std::invalid_argument((dir / table).string() + ": missing, so " + input + " is not a dataset: " + needs);
+      throw core::FileError((dir / table).string() + ": missing, so " + input + " is not a dataset: " + needs);
     }
   }
   if (!tables.boxes) {
-    throw std::invalid_argument((dir / "objects.csv").string() +
-                                ": no box columns (box_x_m ... box_world_yaw_rad): the dataset was written before "
-                                "boxes were; simulate it again to export it to OpenPCDet");
+    throw core::FileError((dir / "objects.csv").string() +
+                          ": no box columns (box_x_m ... box_world_yaw_rad): the dataset was written before "
+                          "boxes were; simulate it again to export it to OpenPCDet");
   }
 }
 
@@ -141,7 +142,7 @@ io::PcdCloud read_cloud(const std::string& path, const io::InputOptions& input) 
 int run_export(const ExportOptions& opt) {
   const io::InputOptions input = opt.input.resolve();
   const io::LabelSource label_source = io::parse_label_source(opt.labels);
-  if (!(opt.doppler_scale_mps > 0.0)) throw std::invalid_argument("--doppler-scale must be > 0 m/s");
+  if (!(opt.doppler_scale_mps > 0.0)) throw core::InputError("--doppler-scale must be > 0 m/s");
   io::refuse_output_over_inputs(opt.output, {opt.input.path});
   const std::vector<std::string> files = io::list_input_files(opt.input.path, input.format);
   const DatasetTables tables = read_dataset_tables(opt.input.path, files.size());

@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "fmcw/core/errors.hpp"
 #include "fmcw/io/atomic_file.hpp"
 #include "fmcw/sim/scenario_generator.hpp"
 
@@ -43,15 +44,15 @@ Action add_generate_command(CLI::App& app) {
     // The output: new, empty, or a set written by generate (it holds manifest.csv) with --overwrite.
     const fs::path out(opt->output);
     if (fs::exists(out)) {
-      if (!fs::is_directory(out)) throw std::invalid_argument(opt->output + ": exists and is not a folder");
+      if (!fs::is_directory(out)) throw core::InputError(opt->output + ": exists and is not a folder");
       if (!fs::is_empty(out)) {
         if (!opt->overwrite) {
-          throw std::invalid_argument(opt->output + ": not empty (use --overwrite to replace a set fmcw generate wrote)");
+          throw core::InputError(opt->output + ": not empty (use --overwrite to replace a set fmcw generate wrote)");
         }
         if (!fs::exists(out / "manifest.csv") || !fs::exists(out / "scenarios")) {
-          throw std::invalid_argument(opt->output +
-                                      ": --overwrite replaces only a folder that fmcw generate wrote (with manifest.csv "
-                                      "and scenarios/); this one is not");
+          throw core::InputError(opt->output +
+                                 ": --overwrite replaces only a folder that fmcw generate wrote (with manifest.csv "
+                                 "and scenarios/); this one is not");
         }
         fs::remove_all(out / "scenarios");
         fs::remove(out / "manifest.csv");

@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "fmcw/core/errors.hpp"
 #include "fmcw/eval/evaluation_report.hpp"
 #include "fmcw/sim/dataset_writer.hpp"
 #include "progress.hpp"
@@ -32,11 +33,11 @@ void clear_previous_dataset(const fs::path& dir, bool overwrite) {
   std::error_code ec;
   if (!fs::exists(dir, ec) || fs::is_empty(dir, ec)) return;
   if (!overwrite) {
-    throw std::invalid_argument("dataset folder '" + dir.string() +
-                                "' exists and is not empty (choose another output folder or pass --overwrite)");
+    throw core::InputError("dataset folder '" + dir.string() +
+                           "' exists and is not empty (choose another output folder or pass --overwrite)");
   }
   if (!fs::exists(dir / "dataset.yaml", ec) && !fs::is_directory(dir / "frames", ec)) {
-    throw std::invalid_argument("'" + dir.string() + "' is not a dataset folder; not removing it");
+    throw core::InputError("'" + dir.string() + "' is not a dataset folder; not removing it");
   }
   fs::remove_all(dir, ec);
   if (ec) throw std::runtime_error("cannot remove the previous dataset '" + dir.string() + "': " + ec.message());

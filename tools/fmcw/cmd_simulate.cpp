@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "fmcw/core/errors.hpp"
 #include "fmcw/io/atomic_file.hpp"
 #include "fmcw/sim/dataset_writer.hpp"
 #include "fmcw/sim/scenario_generator.hpp"
@@ -55,7 +56,7 @@ std::pair<int, int> parse_shard(const std::string& text, const std::string& opti
     n = 0;
   }
   if (n < 1 || i < 0 || i >= n) {
-    throw std::invalid_argument(option + " '" + text + "': expected I/N with 0 <= I < N, e.g. 0/4 for the first of four");
+    throw core::InputError(option + " '" + text + "': expected I/N with 0 <= I < N, e.g. 0/4 for the first of four");
   }
   return {i, n};
 }
@@ -147,10 +148,10 @@ Action add_simulate_command(CLI::App& app) {
     if (!opt->shard.empty()) std::tie(opt->dataset.shard_index, opt->dataset.shard_count) = parse_shard(opt->shard, "--shard");
     install_stop_handlers();
     if (std::filesystem::is_directory(opt->scenario)) {
-      if (!opt->shard.empty()) throw std::invalid_argument("--shard is for one scenario; a set is split with --task I/N");
+      if (!opt->shard.empty()) throw core::InputError("--shard is for one scenario; a set is split with --task I/N");
       return simulate_set(*opt);
     }
-    if (!opt->task.empty()) throw std::invalid_argument("--task is for a set folder written by fmcw generate");
+    if (!opt->task.empty()) throw core::InputError("--task is for a set folder written by fmcw generate");
     return simulate_one(opt->scenario, opt->dataset, opt->max_memory_mb);
   };
 }

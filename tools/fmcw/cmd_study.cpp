@@ -9,6 +9,7 @@
 #include "fmcw/eval/object_points_study.hpp"
 #include "fmcw/eval/threshold_study.hpp"
 #include "fmcw/eval/report_script.hpp"
+#include "fmcw/eval/scenario_source.hpp"
 #include "progress.hpp"
 
 namespace fmcw::cli {

@@ -5,10 +5,14 @@
 
 #include "fmcw/sim/scenario.hpp"
 #include "fmcw/sim/scenario_generator.hpp"
-#include "fmcw/sim/yaml_reader.hpp"
+#include "fmcw/io/yaml_reader.hpp"
 #include "layouts.hpp"
 
 namespace fmcw::sim {
+
+using io::YamlMap;
+using io::YamlValue;
+using io::is_existing_file;
 
 namespace fs = std::filesystem;
 

@@ -17,7 +17,7 @@
 #include "fmcw/core/check.hpp"
 #include "fmcw/core/random.hpp"
 #include "fmcw/sim/mesh_asset.hpp"
-#include "fmcw/sim/yaml_reader.hpp"
+#include "fmcw/io/yaml_reader.hpp"
 #include "layouts.hpp"
 
 namespace fmcw::sim {
@@ -43,12 +43,12 @@ std::shared_ptr<const GeneratorAssets> load_generator_assets(const GeneratorConf
       {"tree", true},  {"pole", true},   {"sign", true},  {"barrier", true}};
   for (const auto& [role, is_static] : roles) {
     const std::string path = (fs::path(config.assets_dir) / (role + ".gltf")).string();
-    FMCW_CHECK_ARG(is_existing_file(path), config.source_file, ": assets: no ", role, ".gltf in ", config.assets_dir);
+    FMCW_CHECK_FILE(io::is_existing_file(path), config.source_file, ": assets: no ", role, ".gltf in ", config.assets_dir);
     const MeshAsset asset = load_mesh_asset(path, {}, 0.3f);
     GeneratorAssets::Mesh m;
     m.path = path;
     m.footprint = footprint_below(asset, Eigen::Affine3d::Identity(), is_static ? kFootprintHeight_m : 1e300);
-    FMCW_CHECK_ARG(!m.footprint.isEmpty(), path, ": no triangle below ", kFootprintHeight_m, " m");
+    FMCW_CHECK_FILE(!m.footprint.isEmpty(), path, ": no triangle below ", kFootprintHeight_m, " m");
     out->meshes[role] = m;
   }
   return out;
@@ -616,7 +616,7 @@ GeneratedScenario generate_scenario(const GeneratorConfig& config, const Generat
 
 std::vector<SetEntry> read_set_manifest(const std::string& path) {
   std::ifstream in(path);
-  FMCW_CHECK_ARG(in.good() && is_existing_file(path), path, ": no manifest here (a set folder written by fmcw generate holds one)");
+  FMCW_CHECK_FILE(in.good() && io::is_existing_file(path), path, ": no manifest here (a set folder written by fmcw generate holds one)");
   const auto split = [](const std::string& line) {
     std::vector<std::string> cells;
     std::stringstream ss(line);
@@ -626,11 +626,11 @@ std::vector<SetEntry> read_set_manifest(const std::string& path) {
     return cells;
   };
   std::string line;
-  FMCW_CHECK_ARG(static_cast<bool>(std::getline(in, line)), path, ": empty, expected a header line");
+  FMCW_CHECK_FILE(static_cast<bool>(std::getline(in, line)), path, ": empty, expected a header line");
   const std::vector<std::string> header = split(line);
   const auto column = [&](const std::string& name) {
     const auto it = std::find(header.begin(), header.end(), name);
-    FMCW_CHECK_ARG(it != header.end(), path, ":1: no column '", name, "'");
+    FMCW_CHECK_FILE(it != header.end(), path, ":1: no column '", name, "'");
     return static_cast<std::size_t>(it - header.begin());
   };
   const std::size_t name_col = column("name"), file_col = column("file");
@@ -639,22 +639,22 @@ std::vector<SetEntry> read_set_manifest(const std::string& path) {
   for (int line_no = 2; std::getline(in, line); ++line_no) {
     if (line.empty()) continue;
     const std::vector<std::string> cells = split(line);
-    FMCW_CHECK_ARG(cells.size() == header.size(), path, ":", line_no, ": ", cells.size(), " columns, expected ",
-                   header.size());
+    FMCW_CHECK_FILE(cells.size() == header.size(), path, ":", line_no, ": ", cells.size(), " columns, expected ",
+                    header.size());
     SetEntry e{cells[name_col], cells[file_col]};
     const bool safe_name = !e.name.empty() && e.name.size() <= 128 && e.name != "." && e.name != ".." &&
                            std::all_of(e.name.begin(), e.name.end(), [](char c) {
                              return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
                            });
-    FMCW_CHECK_ARG(safe_name, path, ":", line_no, ": name must be 1 to 128 letters, digits, '_', '-' or '.'");
+    FMCW_CHECK_FILE(safe_name, path, ":", line_no, ": name must be 1 to 128 letters, digits, '_', '-' or '.'");
     const fs::path f(e.file);
     bool inside = !e.file.empty() && f.is_relative();
     for (const auto& part : f) inside = inside && part != "..";
-    FMCW_CHECK_ARG(inside, path, ":", line_no, ": file '", e.file, "' must be a path inside the set folder");
-    FMCW_CHECK_ARG(seen.insert(e.name).second, path, ":", line_no, ": name '", e.name, "' repeats an earlier row");
+    FMCW_CHECK_FILE(inside, path, ":", line_no, ": file '", e.file, "' must be a path inside the set folder");
+    FMCW_CHECK_FILE(seen.insert(e.name).second, path, ":", line_no, ": name '", e.name, "' repeats an earlier row");
     out.push_back(e);
   }
-  FMCW_CHECK_ARG(!out.empty(), path, ": no scenario rows");
+  FMCW_CHECK_FILE(!out.empty(), path, ": no scenario rows");
   return out;
 }
 

@@ -36,7 +36,8 @@ struct GridProjectionParams {
   /// at or above a non-zero count is an error (a corrupt record, or the wrong sensor setting).
   int lines = 0;
 
-  /// Throws std::invalid_argument naming the field.
+  /// Throws core::InputError (a std::invalid_argument) naming the field; core::LimitError when
+  /// a bin count exceeds the 2^26 pixels a grid may have.
   void validate() const;
   int cols() const;
   int elevation_rows() const;
@@ -62,7 +63,8 @@ struct GridProjection {
 /// Bins every point into the grid. Where several points fall in one pixel the nearest (smallest
 /// range) is kept, and among equal ranges the earliest in the list: the result depends only on
 /// the input. Throws std::invalid_argument naming the point and field for arrays of different
-/// lengths, non-finite values, a return at zero range, or a line index out of range.
+/// lengths, non-finite values, a return at zero range, or a line index out of range
+/// (core::InputError); core::LimitError for a grid of more than 2^26 pixels.
 GridProjection project_to_grid(const PointList& points, const GridProjectionParams& params);
 
 }  // namespace fmcw::core

@@ -28,7 +28,8 @@ struct HeadModel {
   /// typed in the wrong unit is an error, not a multi-terabyte allocation.
   static constexpr long long kMaxPixels = 16777216;
 
-  /// Throws std::invalid_argument naming the head and the bad field.
+  /// Throws core::InputError (a std::invalid_argument) naming the head and the bad field;
+  /// core::LimitError when the head would have more than kMaxPixels pixels.
   void validate() const;
   int cols() const;
   int rows() const;

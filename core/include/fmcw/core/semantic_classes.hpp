@@ -31,7 +31,7 @@ class ClassTable {
   /// cyclist for its bicyclist, ground for its other-ground), and `van` (100) beside.
   static ClassTable builtin();
 
-  /// Adds a class of a scenario's own. Throws std::invalid_argument when the name or the id is
+  /// Adds a class of a scenario's own. Throws core::InputError when the name or the id is
   /// taken already (naming the class that has it), the id is 0 or above 65535, or the name is
   /// empty, longer than kMaxClassNameLength or holds a comma, a double quote or a control
   /// character (names are cells of CSV tables).

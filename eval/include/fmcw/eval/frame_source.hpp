@@ -1,6 +1,8 @@
 #pragma once
-// Where evaluated frames come from: a dataset on disk (written by `fmcw simulate`), or a
-// scenario simulated in memory. Either way frames are produced one at a time, never all at once.
+// Where evaluated frames come from: a dataset on disk (written by `fmcw simulate`) here, or a
+// scenario simulated in memory (ScenarioSource, in fmcw::eval_sim: fmcw/eval/scenario_source.hpp).
+// Either way frames are produced one at a time, never all at once. Reading a dataset needs no
+// simulator: fmcw::eval links neither Embree nor assimp.
 
 #include <cstddef>
 #include <memory>
@@ -9,8 +11,6 @@
 
 #include "fmcw/core/ground_truth.hpp"
 #include "fmcw/io/frame_layout.hpp"
-#include "fmcw/sim/lidar_simulator.hpp"
-#include "fmcw/sim/scenario.hpp"
 
 namespace fmcw::eval {
 
@@ -37,7 +37,7 @@ class FrameSource {
 
 /// A dataset folder: DIR/dataset.yaml (complete: true), DIR/frames/NNNNNN.pcd for frames
 /// 0..n-1, DIR/ego.csv and DIR/objects.csv with n frames. The constructor checks all of that
-/// and throws std::invalid_argument naming the file at fault; frame(k) reads one PCD and
+/// and throws core::FileError naming the file at fault; frame(k) reads one PCD and
 /// throws naming it when it is truncated, lacks ground truth, or has another shape or other
 /// heads than frame 0. max_frames > 0 keeps the first max_frames frames.
 class DatasetSource : public FrameSource {
@@ -54,24 +54,5 @@ class DatasetSource : public FrameSource {
   std::vector<core::FrameTruth> truth_;
   io::FrameLayoutCheck layout_;  ///< frame 0's shape and heads, which every frame must have
 };
-
-/// A scenario simulated frame by frame in memory (for studies: nothing is written to disk).
-class ScenarioSource : public FrameSource {
- public:
-  /// frames: 0 = the scenario's count; seed applies when override_seed.
-  ScenarioSource(const std::string& scenario_file, int frames = 0, bool override_seed = false, std::uint64_t seed = 0);
-  std::size_t size() const override { return static_cast<std::size_t>(loaded_.scenario.frames); }
-  core::Frame frame(std::size_t k) override;
-  std::string describe(std::size_t k) const override;
-  const SourceInfo& info() const override { return info_; }
-
- private:
-  sim::LoadedScenario loaded_;
-  SourceInfo info_;
-  std::unique_ptr<sim::LidarSimulator> simulator_;
-};
-
-/// A DatasetSource for a folder, a ScenarioSource for a .yaml/.yml file.
-std::unique_ptr<FrameSource> open_frame_source(const std::string& path, int max_frames = 0);
 
 }  // namespace fmcw::eval

@@ -21,9 +21,9 @@ struct ScenarioManifest {
 };
 
 /// Reads a CSV with a header (RFC 4180: cells may be quoted, "" is a quote inside quotes; CRLF
-/// or LF). Throws std::invalid_argument naming the file and line for: no header, no "name"
-/// column, a repeated column, a row with another cell count than the header, an empty or a
-/// repeated name, an unterminated quote; std::runtime_error when the file cannot be read.
+/// or LF). Throws core::FileError naming the file and line for: no header, no "name" column, a
+/// repeated column, a row with another cell count than the header, an empty or a repeated
+/// name, an unterminated quote, or a file that cannot be read.
 ScenarioManifest read_scenario_manifest(const std::string& path);
 
 /// Splits CSV text into rows of cells (as above); line numbers of each row's start in lines.

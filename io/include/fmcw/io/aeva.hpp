@@ -49,11 +49,11 @@ struct AevaRecords {
 /// std::invalid_argument asks for the layout.
 AevaLayout detect_aeva_layout(const std::string& path, std::uintmax_t size_bytes);
 
-/// Reads every record. std::invalid_argument naming the file (and the record and field) for a
+/// Reads every record. core::FileError naming the file (and the record and field) for a
 /// directory or a file that is not regular (a FIFO, a device), an empty file, a size that is not
-/// a whole number of records (known from the size alone, before anything is read), or a NaN or
-/// Inf in x, y, z, reflectivity, velocity or intensity; std::runtime_error when the file cannot
-/// be read. Records are read in blocks: memory for the columns, not for a copy of the file.
+/// a whole number of records (known from the size alone, before anything is read), a NaN or
+/// Inf in x, y, z, reflectivity, velocity or intensity, or a file that cannot be opened or
+/// read. Records are read in blocks: memory for the columns, not for a copy of the file.
 AevaRecords read_aeva(const std::string& path, AevaLayout layout = AevaLayout::kAuto);
 
 /// Writes records in the layout above, 29 bytes each when they carry intensity, atomically.

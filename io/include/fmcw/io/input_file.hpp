@@ -9,7 +9,7 @@
 namespace fmcw::io {
 
 /// The size of the file at `path` [bytes], checked before the file is opened. Throws
-/// std::invalid_argument naming the path when it cannot be found ("cannot open <what>: ..."),
+/// core::FileError naming the path when it cannot be found ("cannot open <what>: ..."),
 /// is a directory ("is a directory") or is not a regular file ("is not a regular file": a FIFO
 /// would block the reader and a device such as /dev/zero never ends).
 std::uintmax_t regular_file_size(const std::string& path, const std::string& what);

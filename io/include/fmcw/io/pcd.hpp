@@ -37,8 +37,9 @@ struct PcdCloud {
   const PcdField* find(const std::string& name) const;
 };
 
-/// Reads DATA ascii or binary. Throws std::invalid_argument naming the file and the header line
-/// or point at fault (truncated data, sizes that disagree, unsupported types or compression).
+/// Reads DATA ascii or binary. Throws core::FileError naming the file and the header line or
+/// point at fault (truncated data, sizes that disagree, unsupported types or compression);
+/// core::LimitError for more than 2^31 points or more data than a file can hold.
 PcdCloud read_pcd(const std::string& path);
 
 /// Writes binary PCD atomically; std::runtime_error when the file cannot be written.

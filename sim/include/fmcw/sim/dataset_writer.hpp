@@ -5,7 +5,6 @@
 #include <functional>
 #include <string>
 
-#include "fmcw/sim/dataset_header.hpp"
 #include "fmcw/sim/scenario.hpp"
 
 namespace fmcw::sim {
@@ -20,7 +19,7 @@ struct DatasetOptions {
   /// Continue the dataset in output_dir where it stopped (same scenario, options and tool
   /// version); a missing or empty folder starts from the beginning.
   bool resume = false;
-  int shard_index = 0;         ///< write part shard_index of shard_count (frames by ShardInfo::of)
+  int shard_index = 0;         ///< write part shard_index of shard_count (frames by io::ShardInfo::of)
   int shard_count = 1;
   std::string tool_version = "unknown";
   /// Asked before each frame; true stops the run after the last whole frame (SIGINT, SIGTERM).
@@ -45,8 +44,10 @@ struct DatasetSummary {
 /// even after SIGKILL, dataset.yaml counts frames that are whole on disk, and `complete: true`
 /// means every file is there. A resumed, sharded or interrupted run writes the same bytes per
 /// frame as one uninterrupted run: frame k's noise depends on the seed and k alone.
-/// progress(done, total) is called after each frame. Throws std::invalid_argument for bad
-/// input, std::runtime_error for I/O failures (the message says how many frames are whole).
+/// progress(done, total) is called after each frame. Throws core::InputError for options the
+/// folder does not allow (not empty, another run's dataset), core::FileError for a dataset to
+/// resume whose files are broken, core::LimitError beyond the memory budget, and
+/// std::runtime_error for I/O failures (the message says how many frames are whole).
 DatasetSummary write_dataset(const LoadedScenario& loaded, const DatasetOptions& options,
                              const std::function<void(int, int)>& progress = {});
 

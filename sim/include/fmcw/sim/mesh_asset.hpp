@@ -68,9 +68,9 @@ MeshAsset box_mesh(const Eigen::Vector3f& half_extent_m, float reflectivity, con
 /// skins. A glTF 2.0 file with animations or skins is read by the project's own glTF reader,
 /// which keeps STEP and CUBICSPLINE interpolation with its tangents and any number of joint
 /// weights per vertex. Each triangle's reflectivity comes from its material's name in the table,
-/// else default_reflectivity. Throws std::invalid_argument naming the file when it is missing,
+/// else default_reflectivity. Throws core::FileError naming the file when it is missing,
 /// unreadable, holds no triangle, or holds a bad clip or skin (naming the clip, channel or
-/// vertex and what is wrong).
+/// vertex and what is wrong); core::LimitError for a glTF over 2 GiB or over 65535 materials.
 MeshAsset load_mesh_asset(const std::string& path, const ReflectivityTable& reflectivity,
                           float default_reflectivity);
 

@@ -89,7 +89,7 @@ struct Scenario {
   double frame_time_s(std::uint64_t frame) const { return start_time_s + static_cast<double>(frame) / rate_hz; }
 };
 
-/// Loads and checks a scenario. Errors (std::invalid_argument) name the file, the line and the
+/// Loads and checks a scenario. Errors (core::FileError) name the file, the line and the
 /// key path: malformed YAML, unknown keys, wrong types, out-of-range values, missing meshes or
 /// configs, meshes assimp cannot read or without triangles, bad trajectories, heads without
 /// pixels. Meshes are loaded here so that every such error shows before anything is written.
@@ -103,7 +103,8 @@ struct LoadedScenario {
 };
 /// max_memory_bytes: the memory the scenario may take by its estimate (rig pixels and placed
 /// triangles, counted before they are allocated); 0 is half of this machine's memory. Over it,
-/// std::invalid_argument names the file, line and key and the estimate.
+/// core::LimitError names the file, line and key and the estimate (so does a head of more than
+/// HeadModel::kMaxPixels pixels).
 LoadedScenario load_scenario(const std::string& path, std::uint64_t max_memory_bytes = 0);
 
 /// Loads a rig config (the `rig:` file of a scenario): heads with mount, fov_deg, resolution_deg,

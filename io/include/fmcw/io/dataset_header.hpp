@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-namespace fmcw::sim {
+namespace fmcw::io {
 
 /// Frames [first_frame, end_frame) of a dataset cut into count parts; this is part index.
 struct ShardInfo {
@@ -26,7 +26,8 @@ struct ShardInfo {
   }
 };
 
-/// "000042.pcd": the name of frame k under DIR/frames/.
+/// "000042.pcd": the name of frame k under DIR/frames/ (six digits, more past 999999). The one
+/// place that formats a frame's file name: the writer, a merge, a resume and the reader use it.
 std::string frame_file_name(long long k);
 
 struct DatasetHeader {
@@ -42,11 +43,20 @@ struct DatasetHeader {
   std::vector<std::pair<std::uint16_t, std::string>> classes;
   /// The resolved scenario as YAML (scenario_to_yaml), kept verbatim.
   std::string scenario_yaml;
+  /// What an evaluation reports of the scenario: read() takes them from the scenario block;
+  /// to_yaml() writes scenario_yaml alone, which holds them.
+  struct ScenarioKeys {
+    std::string name;
+    double rate_hz = 0.0;    ///< frame rate [Hz], > 0
+    std::uint64_t seed = 0;  ///< simulation noise seed
+  } scenario;
 
   std::string to_yaml() const;
-  /// Reads DIR/dataset.yaml; std::invalid_argument naming file, line and key when it is not a
-  /// dataset header this tool wrote.
+  /// Reads DIR/dataset.yaml, the one reader of it (the writer's resume, a merge and the
+  /// evaluation all use it). It is lenient about keys a newer writer may add, strict about what
+  /// it reads: core::FileError naming file, line and key when it is not a dataset header this
+  /// tool wrote.
   static DatasetHeader read(const std::string& file);
 };
 
-}  // namespace fmcw::sim
+}  // namespace fmcw::io

@@ -1,4 +1,4 @@
-#include "fmcw/sim/dataset_header.hpp"
+#include "fmcw/io/dataset_header.hpp"
 
 #include <cstdio>
 #include <fstream>
@@ -6,9 +6,9 @@
 #include <stdexcept>
 
 #include "fmcw/core/check.hpp"
-#include "fmcw/sim/yaml_reader.hpp"
+#include "fmcw/io/yaml_reader.hpp"
 
-namespace fmcw::sim {
+namespace fmcw::io {
 
 namespace {
 constexpr const char* kScenarioKey = "scenario:";
@@ -104,6 +104,11 @@ DatasetHeader DatasetHeader::read(const std::string& file) {
   }
   const YamlValue scenario = key(doc, "scenario");
   if (!scenario.is_map()) scenario.fail("expected the resolved scenario as a map");
+  h.scenario.name = key(scenario, "name").as_string();
+  const YamlValue rate = key(scenario, "rate_hz");
+  h.scenario.rate_hz = rate.as_double();
+  if (!(h.scenario.rate_hz > 0.0)) rate.fail("must be > 0");
+  h.scenario.seed = key(scenario, "seed").as_uint64();
 
   // The scenario block verbatim: every line after "scenario:", without its two-space indent.
   std::ifstream in(file, std::ios::binary);
@@ -121,4 +126,4 @@ DatasetHeader DatasetHeader::read(const std::string& file) {
   return h;
 }
 
-}  // namespace fmcw::sim
+}  // namespace fmcw::io

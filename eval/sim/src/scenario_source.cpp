@@ -1,8 +1,14 @@
-#include <sstream>
+#include "fmcw/eval/scenario_source.hpp"
 
-#include "fmcw/eval/frame_source.hpp"
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
+#include "fmcw/core/errors.hpp"
 
 namespace fmcw::eval {
+
+namespace fs = std::filesystem;
 
 ScenarioSource::ScenarioSource(const std::string& scenario_file, int frames, bool override_seed, std::uint64_t seed)
     : loaded_(sim::load_scenario(scenario_file)) {
@@ -28,6 +34,17 @@ std::string ScenarioSource::describe(std::size_t k) const {
   std::ostringstream out;
   out << info_.path << " frame " << k;
   return out.str();
+}
+
+std::unique_ptr<FrameSource> open_frame_source(const std::string& path, int max_frames) {
+  const fs::path p(path);
+  const std::string ext = p.extension().string();
+  if (ext == ".yaml" || ext == ".yml") {
+    std::error_code ec;
+    if (!fs::is_regular_file(p, ec)) throw core::FileError(path + ": file does not exist");
+    return std::make_unique<ScenarioSource>(path, max_frames);
+  }
+  return std::make_unique<DatasetSource>(path, max_frames);
 }
 
 }  // namespace fmcw::eval

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace fmcw::sim {
+namespace fmcw::io {
 
 /// True for an existing regular file; false, never an exception, for a path the system rejects
 /// (too long, a component not a folder, no permission): a scenario may name anything.
@@ -23,8 +23,8 @@ std::string missing_file_reason(const std::string& path);
 class YamlValue {
  public:
   YamlValue(YAML::Node node, std::string file, std::string path);
-  /// Parses a file; std::invalid_argument with file:line:column for malformed YAML, a missing
-  /// file, or an empty document.
+  /// Parses a file; core::FileError with file:line:column for malformed YAML, a missing file,
+  /// or an empty document. fail() and every other error of a read is a core::FileError too.
   static YamlValue load_file(const std::string& file);
 
   const std::string& file() const { return file_; }
@@ -71,4 +71,4 @@ class YamlMap {
   std::set<std::string> used_;
 };
 
-}  // namespace fmcw::sim
+}  // namespace fmcw::io

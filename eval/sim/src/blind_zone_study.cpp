@@ -145,8 +145,8 @@ void BlindZoneStudyParams::validate() const {
     BlindZoneSceneParams sc = scene;
     sc.box_size_m = t.box_size_m;
     sc.validate();
-    FMCW_CHECK_ARG(t.mesh.empty() || std::filesystem::is_regular_file(t.mesh), "blind zone: mesh '", t.mesh,
-                   "' does not exist");
+    FMCW_CHECK_FILE(t.mesh.empty() || std::filesystem::is_regular_file(t.mesh), "blind zone: mesh '", t.mesh,
+                    "' does not exist");
   }
   FMCW_CHECK_ARG(phi_step_deg > 0.0 && phi_step_deg <= 1.0, "blind zone: phi_step_deg must be in (0, 1], got ", phi_step_deg);
   FMCW_CHECK_ARG(fine_step_deg > 0.0 && fine_step_deg <= phi_step_deg, "blind zone: fine_step_deg must be in (0, ",

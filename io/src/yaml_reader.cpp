@@ -1,4 +1,4 @@
-#include "fmcw/sim/yaml_reader.hpp"
+#include "fmcw/io/yaml_reader.hpp"
 
 #include <yaml-cpp/depthguard.h>
 
@@ -9,7 +9,9 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace fmcw::sim {
+#include "fmcw/core/errors.hpp"
+
+namespace fmcw::io {
 
 bool is_existing_file(const std::string& path) {
   std::error_code ec;
@@ -45,7 +47,7 @@ YamlValue::YamlValue(YAML::Node node, std::string file, std::string path)
     : node_(std::move(node)), file_(std::move(file)), path_(std::move(path)) {}
 
 YamlValue YamlValue::load_file(const std::string& file) {
-  if (!is_existing_file(file)) throw std::invalid_argument(file + ": " + missing_file_reason(file));
+  if (!is_existing_file(file)) throw core::FileError(file + ": " + missing_file_reason(file));
   YAML::Node root;
   try {
     root = YAML::LoadFile(file);
@@ -54,13 +56,13 @@ YamlValue YamlValue::load_file(const std::string& file) {
     std::ostringstream msg;
     msg << file << ":" << e.mark.line + 1 << ":" << e.mark.column + 1 << ": malformed YAML: nested deeper than "
         << e.depth() - 1 << " levels";
-    throw std::invalid_argument(msg.str());
+    throw core::FileError(msg.str());
   } catch (const YAML::Exception& e) {
     std::ostringstream msg;
     msg << file << ":" << e.mark.line + 1 << ":" << e.mark.column + 1 << ": malformed YAML: " << e.msg;
-    throw std::invalid_argument(msg.str());
+    throw core::FileError(msg.str());
   }
-  if (!root.IsDefined() || root.IsNull()) throw std::invalid_argument(file + ": empty YAML document");
+  if (!root.IsDefined() || root.IsNull()) throw core::FileError(file + ": empty YAML document");
   return YamlValue(root, file, "");
 }
 
@@ -73,7 +75,7 @@ std::string YamlValue::where() const {
   return out.str();
 }
 
-void YamlValue::fail(const std::string& what) const { throw std::invalid_argument(where() + ": " + what); }
+void YamlValue::fail(const std::string& what) const { throw core::FileError(where() + ": " + what); }
 
 double YamlValue::as_double() const {
   if (!node_.IsScalar()) fail("expected a number");
@@ -146,13 +148,13 @@ YamlMap::YamlMap(const YamlValue& value) : value_(value) {
       msg << value_.file() << ":" << line << ": "
           << (value_.path().empty() ? "top level" : value_.path()) << ": a key must be a plain word, got a "
           << (kv.first.IsSequence() ? "list" : kv.first.IsMap() ? "map" : "null");
-      throw std::invalid_argument(msg.str());
+      throw core::FileError(msg.str());
     }
     const auto [it, added] = lines.emplace(kv.first.Scalar(), line);
     if (!added) {
-      throw std::invalid_argument(value_.file() + ":" + std::to_string(line) + ": key '" + shown(kv.first.Scalar()) +
-                                  "' given twice in " + where + " (first at line " + std::to_string(it->second) +
-                                  "); keep one");
+      throw core::FileError(value_.file() + ":" + std::to_string(line) + ": key '" + shown(kv.first.Scalar()) +
+                            "' given twice in " + where + " (first at line " + std::to_string(it->second) +
+                            "); keep one");
     }
   }
 }
@@ -189,8 +191,8 @@ void YamlMap::finish() const {
     std::ostringstream msg;
     msg << value_.file() << ":" << kv.first.Mark().line + 1 << ": unknown key '" << shown(key) << "' in "
         << (value_.path().empty() ? "the top level" : value_.path()) << " (accepted: " << list << ")";
-    throw std::invalid_argument(msg.str());
+    throw core::FileError(msg.str());
   }
 }
 
-}  // namespace fmcw::sim
+}  // namespace fmcw::io
