@@ -1,6 +1,7 @@
 #include "fmcw/core/motion_pipeline.hpp"
 
 #include "fmcw/core/check.hpp"
+#include "fmcw/core/errors.hpp"
 #include "fmcw/core/threads.hpp"
 #include "pipeline_internal.hpp"
 #include "pipeline_workspace.hpp"
@@ -26,7 +27,7 @@ void MotionPipelineParams::validate() const {
   FMCW_CHECK_ARG(moving_sigma > 0.0, "pipeline: moving_sigma must be > 0, got ", moving_sigma);
   FMCW_CHECK_ARG(min_static_fraction >= 0.0 && min_static_fraction <= 1.0, "pipeline: min_static_fraction must be in [0, 1], got ",
                  min_static_fraction);
-  FMCW_CHECK_ARG(num_threads >= 0 && num_threads <= kMaxThreads, "pipeline: num_threads (--threads) must be in [0, ", kMaxThreads,
+  FMCW_CHECK_LIMIT(num_threads >= 0 && num_threads <= kMaxThreads, "pipeline: num_threads (--threads) must be in [0, ", kMaxThreads,
                  "] (0: all cores), got ", num_threads);
   FMCW_CHECK_ARG(max_weak_sigma_mps > 0.0, "pipeline: max_weak_sigma_mps must be > 0, got ", max_weak_sigma_mps);
   FMCW_CHECK_ARG(!track_objects || approach == MotionApproach::kRobustEgo,
@@ -55,7 +56,7 @@ MotionPipelineParams MotionPipelineParams::preset(const std::string& method) {
   } else {
     std::string known;
     for (const auto& name : preset_names()) known += (known.empty() ? "" : ", ") + name;
-    throw std::invalid_argument(concat("unknown method '", method, "' (known: ", known, ")"));
+    throw InputError(concat("unknown method '", method, "' (known: ", known, ")"));
   }
   return p;
 }

@@ -193,10 +193,9 @@ TEST_F(DataSafety, ThreadCountsBeyondTheLimitAreOneError) {
                    std::string("--threads ") + n, fmcw::test::kExitLimit);
   }
   simulate("-o " + path("data") + " --frames 1");
-  // The pipeline's own check (core/src/motion_pipeline.cpp) is still an InputError; 4 like the
-  // simulator's once it throws a LimitError.
+  // The pipeline's own check (core/src/motion_pipeline.cpp), a LimitError as the simulator's.
   const auto r = run_cli("process " + path("data") + " -o " + path("out") + " --threads 100000");
-  EXPECT_EQ(r.code, fmcw::test::kExitUsage) << r.output;
+  EXPECT_EQ(r.code, fmcw::test::kExitLimit) << r.output;
   EXPECT_TRUE(has(r.output, "pipeline: num_threads (--threads) must be in [0, 256]")) << r.output;
 }
 
