@@ -349,11 +349,14 @@ void fill_estimate(const TwistRows& rows, const HuberSums& sums, const Eigen::Ve
 
 }  // namespace
 
-EgoTwistEstimate estimate_ego_twist(const Scan& scan, const ScanBeams& beams, const EgoTwistParams& params,
-                                    std::uint64_t seed, const TwistPrior* prior, EgoTwistWorkspace& ws) {
+namespace {
+
+// The estimate on the rows already in ws.rows. With a prior that finds too few inliers, it
+// starts afresh without the prior on the same rows.
+EgoTwistEstimate estimate_on_rows(const Scan& scan, const EgoTwistParams& params, std::uint64_t seed, const TwistPrior* prior,
+                                  EgoTwistWorkspace& ws) {
   EgoTwistEstimate out;
   const TwistRows& rows = ws.rows;
-  gather_rows(scan, beams, ws.rows);
   const auto n = static_cast<std::uint32_t>(rows.v.size());
   if (n < 4) return out;
 
@@ -371,7 +374,7 @@ EgoTwistEstimate estimate_ego_twist(const Scan& scan, const ScanBeams& beams, co
   const TwistRows& sub = ws.sub;
   subset_rows(rows, subset, ws.sub);
   const MsacResult best = msac(sub, column_points, pb, seed, ws.r2);
-  if (prior != nullptr && best.score.inliers < params.min_inliers) return estimate_ego_twist(scan, beams, params, seed, nullptr, ws);
+  if (prior != nullptr && best.score.inliers < params.min_inliers) return estimate_on_rows(scan, params, seed, nullptr, ws);
   // Zero-velocity test: a standing rig sees the static world at zero Doppler.
   const Score zero = score(sub, column_points, Eigen::Vector4d::Zero(), params.inlier_threshold_mps, ws.r2);
   out.standing = pb.admissible(Eigen::Vector4d::Zero()) && zero.columns >= best.score.columns &&
@@ -381,6 +384,14 @@ EgoTwistEstimate estimate_ego_twist(const Scan& scan, const ScanBeams& beams, co
   const HuberSums sums = refine(rows, pb, out.standing, p);
   fill_estimate(rows, sums, p, pb, out);
   return out;
+}
+
+}  // namespace
+
+EgoTwistEstimate estimate_ego_twist(const Scan& scan, const ScanBeams& beams, const EgoTwistParams& params,
+                                    std::uint64_t seed, const TwistPrior* prior, EgoTwistWorkspace& ws) {
+  gather_rows(scan, beams, ws.rows);
+  return estimate_on_rows(scan, params, seed, prior, ws);
 }
 
 }  // namespace fmcw::core

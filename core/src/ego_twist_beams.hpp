@@ -17,10 +17,6 @@ struct TwistRows {
   std::vector<std::uint16_t> cell;
 
   std::size_t size() const { return v.size(); }
-  void reserve(std::size_t n) {
-    for (auto* c : {&ex, &ey, &ez, &ew, &v}) c->reserve(n);
-    cell.reserve(n);
-  }
   void clear() {
     for (auto* c : {&ex, &ey, &ez, &ew, &v}) c->clear();
     cell.clear();
