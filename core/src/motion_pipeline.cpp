@@ -30,6 +30,7 @@ void MotionPipelineParams::validate() const {
   FMCW_CHECK_LIMIT(num_threads >= 0 && num_threads <= kMaxThreads, "pipeline: num_threads (--threads) must be in [0, ", kMaxThreads,
                  "] (0: all cores), got ", num_threads);
   FMCW_CHECK_ARG(max_weak_sigma_mps > 0.0, "pipeline: max_weak_sigma_mps must be > 0, got ", max_weak_sigma_mps);
+  FMCW_CHECK_ARG(max_valid_sigma_mps > 0.0, "pipeline: max_valid_sigma_mps must be > 0, got ", max_valid_sigma_mps);
   FMCW_CHECK_ARG(!track_objects || approach == MotionApproach::kRobustEgo,
                  "pipeline: track_objects needs the robust-ego approach");
   tracking.validate();

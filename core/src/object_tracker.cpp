@@ -155,6 +155,7 @@ void ObjectTracker::update(const Scan& scan, const ScanBeams& beams, MotionEstim
   split_shared_clusters(frame, est, cluster_pixels, tracks_, boxes, p);
   std::vector<Group> groups(tracks_.size());
   Association assoc = associate(frame, cluster_pixels, est, tracks_, boxes, p, groups);
+  merge_nested_tracks(frame, tracks_, boxes, p, assoc, groups);
   // Claim: the parts of carrying tracks inside the blind band.
   claim_pixels(frame, est, tracks_, boxes, background_, p, groups);
   // Measure every track that has pixels this frame.
@@ -167,6 +168,12 @@ void ObjectTracker::update(const Scan& scan, const ScanBeams& beams, MotionEstim
     if (assoc.owner[c] >= 0 || assoc.absorbed[c] >= 0 ||
         static_cast<int>(cluster_pixels[c].size()) < p.association.min_cluster_pixels || !est.clusters[c].velocity.valid)
       continue;
+    const int vehicle = inside_vehicle(frame, est.clusters[c], tracks_, p);
+    if (vehicle >= 0) {
+      assoc.absorbed[c] = vehicle;
+      groups[static_cast<std::size_t>(vehicle)].absorbed.push_back(static_cast<std::int32_t>(c + 1));
+      continue;
+    }
     Group g;
     g.clusters.push_back(static_cast<std::int32_t>(c + 1));
     g.found = cluster_pixels[c];

@@ -270,6 +270,8 @@ MotionEstimate MotionPipeline::process_regions(const Scan& scan, std::uint64_t f
     published_velocities(scan, seg, col_origin, no_world, params_, frame_index, out);
   }
 
+  for (ClusterEstimate& c : out.clusters) flag_meaningless(c.velocity, params_.max_valid_sigma_mps);
+
   if (no_world) {
     out.status = MotionStatus::kTooFewStaticPoints;
     out.message = no_static_world_message(out.num_static_pixels, num_valid, params_.min_static_fraction);

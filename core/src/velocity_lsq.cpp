@@ -218,4 +218,15 @@ VelocityEstimate solve_velocity_closed_form(const VelocityRows& rows, double qr_
   return solve_normal_equations(NormalEquations::of(rows), qr_condition_threshold, [&rows] { return rows; });
 }
 
+void flag_meaningless(VelocityEstimate& estimate, double max_sigma_mps) {
+  if (!estimate.valid) return;
+  if (!estimate.covariance.allFinite() || !estimate.velocity_mps.allFinite() ||
+      estimate.velocity_mps.norm() > kMaxPlausibleSpeedMps) {
+    estimate.valid = false;
+    return;
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(estimate.covariance, Eigen::EigenvaluesOnly);
+  if (!(eig.eigenvalues().maxCoeff() <= max_sigma_mps * max_sigma_mps)) estimate.valid = false;
+}
+
 }  // namespace fmcw::core

@@ -293,3 +293,74 @@ TEST(MotionPipelineParams, UnknownMethodNamesTheKnownOnes) {
 
 }  // namespace
 }  // namespace fmcw::core
+
+namespace fmcw::core {
+namespace {
+
+// paper and fast keep the published fit, but a velocity its covariance calls meaningless is
+// not valid: a cluster of 3 pixels or fewer has no covariance (RSS / (n - 3)).
+TEST(MotionPipeline, PaperAndFastFlagTinyClustersNotValid) {
+  SyntheticSceneParams p = fmcw::test::static_courtyard();
+  p.ego_velocity_mps = {5.0, 0.0, 0.0};
+  // Thin poles moving across the view far away: a few pixels each.
+  for (int k = 0; k < 6; ++k) {
+    SyntheticBox pole;
+    pole.center_m = Eigen::Vector3d(18.0 + 1.5 * k, -6.0 + 2.5 * k, 1.0);
+    pole.half_extent_m = Eigen::Vector3d(0.02, 0.02, 0.05 + 0.03 * k);
+    pole.velocity_mps = Eigen::Vector3d(0.0, 3.0, 0.0);
+    p.actors.push_back(pole);
+  }
+  SyntheticBox car;  // and one object large enough to measure
+  car.center_m = Eigen::Vector3d(12.0, 4.0, 0.9);
+  car.half_extent_m = Eigen::Vector3d(2.2, 0.9, 0.75);
+  car.velocity_mps = Eigen::Vector3d(-6.0, 0.0, 0.0);
+  p.actors.push_back(car);
+  const Frame frame = render_synthetic_scan(p);
+  for (const std::string method : {"paper", "fast"}) {
+    SCOPED_TRACE(method);
+    MotionPipeline pipeline(MotionPipelineParams::preset(method));
+    const MotionEstimate est = pipeline.process(frame.scan);
+    ASSERT_TRUE(est.ok()) << est.message;
+    int tiny = 0, large_valid = 0;
+    for (const ClusterEstimate& c : est.clusters) {
+      if (c.num_pixels <= 3) {
+        ++tiny;
+        EXPECT_FALSE(c.velocity.valid) << c.num_pixels << " pixels, " << c.velocity.velocity_mps.transpose();
+      }
+      if (c.num_pixels >= 200 && c.velocity.valid) {
+        ++large_valid;
+        EXPECT_LT((c.velocity.velocity_mps - car.velocity_mps).norm(), 1e-3);
+      }
+      if (c.velocity.valid) {
+        EXPECT_LE(c.velocity.velocity_mps.norm(), kMaxPlausibleSpeedMps);
+      }
+    }
+    EXPECT_GT(tiny, 0) << "the scene must hold clusters of 3 pixels or fewer";
+    EXPECT_EQ(large_valid, 1);
+  }
+}
+
+TEST(FlagMeaningless, NoCovarianceAWideOneOrAnAbsurdSpeedIsNotValid) {
+  VelocityEstimate e;
+  e.valid = true;
+  e.velocity_mps = {1.0, 2.0, 0.0};
+  e.covariance = Eigen::Matrix3d::Identity() * 0.01;
+  VelocityEstimate ok = e;
+  flag_meaningless(ok, 10.0);
+  EXPECT_TRUE(ok.valid);
+  VelocityEstimate wide = e;
+  wide.covariance(2, 2) = 200.0;  // sigma 14 m/s on z
+  flag_meaningless(wide, 10.0);
+  EXPECT_FALSE(wide.valid);
+  VelocityEstimate none = e;
+  none.covariance.setConstant(std::nan(""));
+  flag_meaningless(none, 10.0);
+  EXPECT_FALSE(none.valid);
+  VelocityEstimate fast = e;
+  fast.velocity_mps = {2e6, 0.0, 0.0};
+  flag_meaningless(fast, 1e9);
+  EXPECT_FALSE(fast.valid);
+}
+
+}  // namespace
+}  // namespace fmcw::core

@@ -138,13 +138,35 @@ double doppler_deviation(const Frame& frame, const std::vector<std::uint32_t>& p
 
 namespace {
 
+// The track whose box, grown by claim_margin_m, holds the point, the nearest by box distance
+// (-1: none); only confirmed vehicles when vehicles_only.
+int holding_box(const Eigen::Vector2d& q, const std::vector<Track>& tracks, const std::vector<Box>& boxes,
+                const TrackerParams& p, bool vehicles_only) {
+  int holder = -1;
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    if (vehicles_only && !(tracks[t].confirmed && tracks[t].vehicle(p))) continue;
+    if (!boxes[t].contains(q, p.claims.claim_margin_m)) continue;
+    const double d = boxes[t].distance(q) + 1e-3 * (q - boxes[t].centre).norm();
+    if (d < best) {
+      best = d;
+      holder = static_cast<int>(t);
+    }
+  }
+  return holder;
+}
+
 // Per cluster: the track it joins and the one it would be absorbed into.
 void gate_clusters(const Frame& frame, const std::vector<std::vector<std::uint32_t>>& cluster_pixels,
                    const std::vector<Eigen::Vector2d>& centroid, const std::vector<Track>& tracks,
                    const std::vector<Box>& boxes, const TrackerParams& p, Association& a) {
   const TrackerParams::Association& pa = p.association;
   for (std::size_t c = 0; c < centroid.size(); ++c) {
-    if (static_cast<int>(cluster_pixels[c].size()) < pa.min_cluster_pixels) continue;
+    if (static_cast<int>(cluster_pixels[c].size()) < pa.min_cluster_pixels) {
+      // Too few pixels to measure anything: a crumb of a tracked object goes under its label.
+      a.absorbed[c] = holding_box(centroid[c], tracks, boxes, p, false);
+      continue;
+    }
     double best = std::numeric_limits<double>::infinity();
     double best_absorb = best;
     for (std::size_t t = 0; t < tracks.size(); ++t) {
@@ -215,6 +237,33 @@ Association associate(const Frame& frame, const std::vector<std::vector<std::uin
       groups[static_cast<std::size_t>(a.absorbed[c])].absorbed.push_back(static_cast<std::int32_t>(c + 1));
   }
   return a;
+}
+
+void merge_nested_tracks(const Frame& frame, std::vector<Track>& tracks, const std::vector<Box>& boxes,
+                         const TrackerParams& p, Association& a, std::vector<Group>& groups) {
+  (void)frame;
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    if (groups[t].clusters.empty()) continue;
+    const int u = holding_box(boxes[t].centre, tracks, boxes, p, true);
+    if (u < 0 || static_cast<std::size_t>(u) == t || tracks[static_cast<std::size_t>(u)].hits <= tracks[t].hits) continue;
+    if (tracks[t].vehicle(p) && tracks[t].confirmed) continue;  // two vehicles: leave to the split
+    Group& into = groups[static_cast<std::size_t>(u)];
+    for (const std::int32_t l : groups[t].clusters) {
+      into.absorbed.push_back(l);
+      a.owner[static_cast<std::size_t>(l - 1)] = -1;
+      a.absorbed[static_cast<std::size_t>(l - 1)] = u;
+    }
+    into.absorbed.insert(into.absorbed.end(), groups[t].absorbed.begin(), groups[t].absorbed.end());
+    for (const std::int32_t l : groups[t].absorbed) a.absorbed[static_cast<std::size_t>(l - 1)] = u;
+    groups[t] = Group{};
+    tracks[t].misses = p.lifecycle.max_misses + 1;  // pruned at the end of the frame
+  }
+}
+
+int inside_vehicle(const Frame& frame, const ClusterEstimate& ce, const std::vector<Track>& tracks, const TrackerParams& p) {
+  std::vector<Box> boxes(tracks.size());
+  for (std::size_t t = 0; t < tracks.size(); ++t) boxes[t] = box_of(tracks[t]);
+  return holding_box(frame.world_xy(ce.centroid_m), tracks, boxes, p, true);
 }
 
 }  // namespace fmcw::core::tracking

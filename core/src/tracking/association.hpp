@@ -33,11 +33,24 @@ struct Association {
 /// Each cluster joins the track whose predicted box (grown by the gate, wider for an uncertain
 /// position) holds its centroid, whose predicted motion explains its Doppler, and that lies
 /// nearest to it; a small cluster inside a vehicle's box whose Doppler the track does not
-/// explain (a wheel) is absorbed into its label, unmeasured. A track's nearest cluster always
+/// explain (a wheel) is absorbed into its label, unmeasured, and so is a cluster too small to
+/// measure (under min_cluster_pixels) inside any track's box grown by claim_margin_m. A track's nearest cluster always
 /// joins it, further ones only from inside its box (grown by claim_margin_m, a vehicle's by the
 /// gate). Fills each track's group with its clusters and their pixels.
 Association associate(const Frame& frame, const std::vector<std::vector<std::uint32_t>>& cluster_pixels,
                       const MotionEstimate& est, const std::vector<Track>& tracks, const std::vector<Box>& boxes,
                       const TrackerParams& p, std::vector<Group>& groups);
+
+/// A track whose predicted centre lies inside an older confirmed vehicle's predicted box (grown by
+/// claim_margin_m) follows a piece of that vehicle (it was born from a wheel or a part seen
+/// apart): its clusters go under the vehicle's label, unmeasured, and the track ends this frame.
+/// Two confirmed vehicles are left alone (split_shared_clusters parts them).
+void merge_nested_tracks(const Frame& frame, std::vector<Track>& tracks, const std::vector<Box>& boxes,
+                         const TrackerParams& p, Association& a, std::vector<Group>& groups);
+
+/// The confirmed vehicle track whose box (grown by claim_margin_m) holds the cluster's centroid,
+/// or -1: a cluster there that no track took is a piece of that vehicle (a wheel, a mirror, a
+/// part whose Doppler the track does not explain), not a new object.
+int inside_vehicle(const Frame& frame, const ClusterEstimate& ce, const std::vector<Track>& tracks, const TrackerParams& p);
 
 }  // namespace fmcw::core::tracking

@@ -60,6 +60,11 @@ struct MotionPipelineParams {
   /// to worse than this is reported as zero, its variance saying it is unknown
   /// (zero_unobserved_direction). Tracks take the fits as they are [m/s].
   double max_weak_sigma_mps = 0.5;
+  /// paper and fast: an object velocity whose covariance gives some direction a standard
+  /// deviation above this, that has no covariance (3 points or fewer), or whose speed exceeds
+  /// 1000 m/s is flagged not valid (flag_meaningless): the published fit is kept, but no one
+  /// should act on it [m/s].
+  double max_valid_sigma_mps = 10.0;
   /// Every method: when fewer than this fraction of the valid points belong to the static world
   /// (the largest region, or the ego twist's inliers), the scan shows no static world (every
   /// point moving, each its own way) and no ego velocity is reported: kTooFewStaticPoints.

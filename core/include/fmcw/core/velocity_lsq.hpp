@@ -109,4 +109,10 @@ void zero_unobserved_direction(VelocityEstimate& estimate, double noise_sigma_mp
 /// solve_normal_equations on explicit rows.
 VelocityEstimate solve_velocity_closed_form(const VelocityRows& rows, double qr_condition_threshold = 1e8);
 
+/// Flags an estimate not valid when its velocity says nothing: no finite covariance (3 rows or
+/// fewer), a direction with a standard deviation above max_sigma_mps, or a speed above
+/// kMaxPlausibleSpeedMps. The velocity and covariance are kept as they are.
+inline constexpr double kMaxPlausibleSpeedMps = 1e3;
+void flag_meaningless(VelocityEstimate& estimate, double max_sigma_mps);
+
 }  // namespace fmcw::core
