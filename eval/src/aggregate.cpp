@@ -49,12 +49,53 @@ std::vector<NamedValue> metrics_of(const MethodSummary& s, const ErrorStats& all
       rate("centre_err_p95_ge200_mps", large.p95),
       rate("centre_err_max_ge200_mps", large.max),
       rate("share_over_1mps_ge200", large.share_over_1mps),
+      rate("covariance_coverage_95", s.tails.calibration.coverage_95),
+      rate("mean_nees", s.tails.calibration.mean_nees),
+      rate("mota", s.tracking.all.mota),
+      rate("idf1", s.tracking.all.idf1),
+      count("id_switches", s.tracking.all.id_switches),
       rate("instance_precision", s.instance_precision),
       rate("instance_recall", s.instance_recall),
       count("band_pixels", static_cast<double>(s.blind_band_pixels)),
       rate("band_recall", s.blind_recall_tracked),
   };
 }
+
+// Pooled calibration: the counts summed back from each run's shares (coverage x scored,
+// mean NEES x scored).
+void add_counts(CalibrationStats& sum, const CalibrationStats& x) {
+  sum.estimates += x.estimates;
+  sum.without_covariance += x.without_covariance;
+  sum.partly_unobservable += x.partly_unobservable;
+  sum.fully_unobservable += x.fully_unobservable;
+  if (x.scored == 0) return;
+  sum.coverage_95 += x.coverage_95 * x.scored;
+  sum.mean_nees += x.mean_nees * x.scored;
+  sum.mean_dof += x.mean_dof * x.scored;
+  sum.scored += x.scored;
+}
+void finish(CalibrationStats& c) {
+  c.coverage_95 = ratio(c.coverage_95, c.scored);
+  c.mean_nees = ratio(c.mean_nees, c.scored);
+  c.mean_dof = ratio(c.mean_dof, c.scored);
+}
+// Pooled tracking: CLEAR MOT's and IDF1's counts add over runs (an actor of one run is never one
+// of another).
+void add_counts(MotMetrics& sum, const MotMetrics& x) {
+  sum.objects += x.objects;
+  sum.hypotheses += x.hypotheses;
+  sum.matches += x.matches;
+  sum.misses += x.misses;
+  sum.false_positives += x.false_positives;
+  sum.id_switches += x.id_switches;
+  sum.fragmentations += x.fragmentations;
+  sum.idtp += x.idtp;
+  if (x.matches > 0) {
+    sum.motp_m += x.motp_m * x.matches;
+    sum.motp_iou += x.motp_iou * x.matches;
+  }
+}
+void finish(MotMetrics& m) { complete_mot(m); }
 
 // Pools an RMSE over runs: the squared errors summed back from RMSE^2 * n.
 struct RmsePool {
@@ -68,23 +109,6 @@ struct RmsePool {
   double value() const { return n == 0 ? kNaN : std::sqrt(sum_sq / n); }
 };
 }  // namespace
-
-ErrorStats error_stats(const std::vector<double>& errors) {
-  ErrorStats e;
-  std::vector<double> v;
-  v.reserve(errors.size());
-  for (const double x : errors) {
-    if (std::isfinite(x)) v.push_back(x);
-  }
-  e.count = static_cast<int>(v.size());
-  e.median = quantile(v, 0.5);
-  e.p90 = quantile(v, 0.9);
-  e.p95 = quantile(v, 0.95);
-  e.max = quantile(v, 1.0);
-  const auto over = std::count_if(v.begin(), v.end(), [](double x) { return x > 1.0; });
-  e.share_over_1mps = ratio(static_cast<double>(over), static_cast<double>(v.size()));
-  return e;
-}
 
 DatasetDigest digest(const EvaluationResult& r, const std::string& folder) {
   DatasetDigest d;
@@ -161,6 +185,8 @@ PooledMethod pool(const std::vector<DatasetDigest>& digests, const std::string& 
     s.blind_band_detected += x.blind_band_detected;
     s.blind_part_pixels += x.blind_part_pixels;
     s.blind_part_detected += x.blind_part_detected;
+    add_counts(s.tails.calibration, x.tails.calibration);
+    add_counts(s.tracking.all, x.tracking.all);
     if (std::isfinite(x.mean_timing_ms.total_ms)) total_ms += x.mean_timing_ms.total_ms * x.frames;
     s.max_timing_ms.total_ms = std::max(s.max_timing_ms.total_ms, x.max_timing_ms.total_ms);
     all.insert(all.end(), md.centre_errors_mps.begin(), md.centre_errors_mps.end());
@@ -184,6 +210,8 @@ PooledMethod pool(const std::vector<DatasetDigest>& digests, const std::string& 
   s.blind_recall_tracked = ratio(static_cast<double>(s.blind_band_detected), static_cast<double>(s.blind_band_pixels));
   s.blind_part_recall = ratio(static_cast<double>(s.blind_part_detected), static_cast<double>(s.blind_part_pixels));
   s.mean_timing_ms.total_ms = ratio(total_ms, s.frames);
+  finish(s.tails.calibration);
+  finish(s.tracking.all);
   p.centre = error_stats(all);
   p.centre_large = error_stats(large);
   s.median_reference_error_mps = p.centre.median;

@@ -19,6 +19,7 @@ namespace fmcw::eval {
 
 namespace fs = std::filesystem;
 using json = report_json::json;
+using report_json::error_json;
 using report_json::number;
 
 bool is_dataset_folder(const std::string& dir) {
@@ -133,15 +134,6 @@ json named_values(const std::vector<NamedValue>& values) {
     out[v.key] = v.integer && std::isfinite(v.value) ? json(static_cast<std::int64_t>(v.value)) : number(v.value);
   }
   return out;
-}
-
-json error_json(const ErrorStats& e) {
-  return {{"count", e.count},
-          {"median", number(e.median)},
-          {"p90", number(e.p90)},
-          {"p95", number(e.p95)},
-          {"max", number(e.max)},
-          {"share_over_1mps", number(e.share_over_1mps)}};
 }
 
 // A manifest cell in JSON: a number when the whole cell is one, else the text.

@@ -25,6 +25,14 @@ json timing(const core::StageTiming& t) {
           {"total", number(t.total_ms)}};
 }
 
+json tracking_json(const MotReport& r) {
+  json out = report_json::mot_json(r.all);
+  json by_class = json::object();
+  for (const auto& [k, m] : r.by_class) by_class[k] = report_json::mot_json(m);
+  out["by_class"] = by_class;
+  return out;
+}
+
 json method_json(const MethodSummary& s, const std::vector<TargetCheck>& checks) {
   json targets = json::array();
   bool all_met = true;
@@ -60,7 +68,27 @@ json method_json(const MethodSummary& s, const std::vector<TargetCheck>& checks)
         {"instance_precision", number(s.instance_precision)},
         {"instance_recall", number(s.instance_recall)},
         {"instance_clusters", s.instances.clusters},
-        {"instance_actors", s.instances.actors}}},
+        {"instance_actors", s.instances.actors},
+        {"centre_error_median_mps_ge200", number(s.tails.ge200.median)},
+        {"centre_error_p90_mps_ge200", number(s.tails.ge200.p90)},
+        {"centre_error_p95_mps_ge200", number(s.tails.ge200.p95)},
+        {"centre_error_max_mps_ge200", number(s.tails.ge200.max)},
+        {"centre_error_share_over_0p5mps_ge200", number(s.tails.ge200.share_over_0p5mps)},
+        {"centre_error_share_over_1mps_ge200", number(s.tails.ge200.share_over_1mps)},
+        {"centre_error_count_ge200", s.tails.ge200.count},
+        {"by_class", report_json::error_map_json(s.tails.by_class)},
+        {"by_distance", report_json::error_map_json(s.tails.by_distance)},
+        {"by_track_age", report_json::error_map_json(s.tails.by_age)},
+        {"covariance_coverage_95", number(s.tails.calibration.coverage_95)},
+        {"mean_nees", number(s.tails.calibration.mean_nees)},
+        {"calibration",
+         {{"estimates", s.tails.calibration.estimates},
+          {"scored", s.tails.calibration.scored},
+          {"without_covariance", s.tails.calibration.without_covariance},
+          {"partly_unobservable", s.tails.calibration.partly_unobservable},
+          {"fully_unobservable", s.tails.calibration.fully_unobservable},
+          {"mean_dof", number(s.tails.calibration.mean_dof)}}}}},
+      {"tracking", tracking_json(s.tracking)},
       {"blind_zone",
        {{"actor_frames", s.blind_actor_frames},
         {"band_pixels", s.blind_band_pixels},
@@ -116,6 +144,31 @@ void write_objects(const std::string& path, const EvaluationResult& r) {
         t.add(m.error_mps().norm()).add(m.reference_error_mps().norm());
         t.add(m.position_m.x()).add(m.position_m.y()).add(m.estimate_centre_m.x()).add(m.estimate_centre_m.y());
         t.add(m.yaw_rate_rps * kDegPerRad).add(m.estimate_yaw_rate_rps * kDegPerRad).add(m.estimate_track_id);
+        t.end_row();
+      }
+    }
+  }
+  t.write(path);
+}
+
+// Every hypothesis of the tracking metrics and the object it overlaps most (by IoU).
+void write_tracks(const std::string& path, const EvaluationResult& r) {
+  CsvTable t({"frame", "method", "track", "pixels", "class", "actor", "iou", "centre_x_m", "centre_y_m"});
+  for (std::size_t k = 0; k < static_cast<std::size_t>(r.dataset.frames); ++k) {
+    for (const auto& frames : r.frames) {
+      const FrameEvaluation& f = frames[k];
+      const TrackingFrame& tf = f.tracking;
+      for (std::size_t j = 0; j < tf.tracks.size(); ++j) {
+        const TrackObservation& h = tf.tracks[j];
+        std::uint32_t actor = 0;
+        double best = 0.0;
+        for (const PointOverlap& o : tf.overlaps) {
+          if (o.track != static_cast<int>(j) || tf.iou(o) <= best) continue;
+          best = tf.iou(o);
+          actor = tf.truths[static_cast<std::size_t>(o.truth)].actor_id;
+        }
+        t.add(static_cast<std::uint64_t>(f.frame)).add(f.method).add(h.track).add(h.pixels);
+        t.add(h.class_name).add(actor).add(best).add(h.centre_m.x()).add(h.centre_m.y());
         t.end_row();
       }
     }
@@ -200,6 +253,7 @@ std::string metrics_json(const EvaluationResult& r, const std::string& tool_vers
       {"files",
        {{"frames", EvaluationFiles::kFrames},
         {"objects", EvaluationFiles::kObjects},
+        {"tracks", EvaluationFiles::kTracks},
         {"snapshot_pixels", EvaluationFiles::kSnapshotPixels},
         {"snapshot_clusters", EvaluationFiles::kSnapshotClusters},
         {"snapshot_actors", EvaluationFiles::kSnapshotActors}}},
@@ -212,6 +266,7 @@ void write_evaluation_report(const std::string& dir, const EvaluationResult& r, 
   const fs::path d(dir);
   write_frames((d / EvaluationFiles::kFrames).string(), r);
   write_objects((d / EvaluationFiles::kObjects).string(), r);
+  write_tracks((d / EvaluationFiles::kTracks).string(), r);
   write_snapshot(dir, r);
   write_text_atomically((d / EvaluationFiles::kMetrics).string(), metrics_json(r, tool_version));
 }

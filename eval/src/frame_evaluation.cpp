@@ -28,6 +28,7 @@ FrameEvaluation evaluate_frame(std::size_t frame_index, const core::Frame& frame
   e.ego_truth_at_heads_mps = truth.ego.velocity_mps + truth.ego.angular_velocity_rps.cross(mean_mount);
   e.objects = match_objects(*frame.truth, scan.valid, truth, estimate, objects);
   e.instances = count_instances(*frame.truth, scan.valid, estimate, objects);
+  e.tracking = tracking_frame(frame_index, *frame.truth, scan.valid, truth, estimate, objects.min_moving_pixels);
   e.blind_band = blind_band_actors(scan, *frame.truth, truth, estimate, blind_band_mps);
   e.yaw_rate_valid = estimate.ego.valid && estimate.ego_yaw_rate_estimated;
   if (e.yaw_rate_valid) e.yaw_rate_estimate_rps = estimate.ego_angular_velocity_rps.z();

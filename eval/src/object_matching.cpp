@@ -3,6 +3,7 @@
 #include <map>
 
 #include "fmcw/core/check.hpp"
+#include "point_overlaps.hpp"
 
 namespace fmcw::eval {
 
@@ -98,6 +99,7 @@ std::vector<ObjectMatch> match_objects(const core::PixelGroundTruth& gt, const s
         m.estimate_centre_m = c.centre_m;
         m.estimate_yaw_rate_rps = c.yaw_rate_rps;
         m.estimate_track_id = c.track_id;
+        m.estimate_covariance = c.velocity.covariance;
       }
     }
     out.push_back(m);
@@ -108,33 +110,18 @@ std::vector<ObjectMatch> match_objects(const core::PixelGroundTruth& gt, const s
 InstanceCounts count_instances(const core::PixelGroundTruth& gt, const std::vector<std::uint8_t>& valid,
                                const core::MotionEstimate& estimate, const ObjectMatchParams& params) {
   params.validate();
-  const std::size_t n = valid.size();
-  gt.validate(n);
-  FMCW_CHECK_ARG(estimate.labels.size() == n, "count_instances: estimate has ", estimate.labels.size(),
-                 " labels for ", n, " pixels");
-  std::map<std::uint32_t, std::pair<int, int>> actor;  // id -> (valid pixels, truly moving)
-  std::map<std::int32_t, int> cluster;                 // label -> pixels
-  std::map<std::pair<std::uint32_t, std::int32_t>, int> overlap;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!valid[i]) continue;
-    const std::int32_t l = estimate.labels[i];
-    if (l >= 1) ++cluster[l];
-    const std::uint32_t a = gt.instance[i];
-    if (a == 0) continue;
-    auto& counts = actor[a];
-    ++counts.first;
-    counts.second += gt.moving[i] ? 1 : 0;
-    if (l >= 1) ++overlap[{a, l}];
-  }
+  const PointOverlaps po = point_overlaps(gt, valid, estimate.labels, "count_instances");
+  const auto& cluster = po.clusters;
+  const auto& overlap = po.overlaps;
   InstanceCounts c;
   c.clusters = static_cast<int>(cluster.size());
   std::map<std::int32_t, bool> cluster_matched;
-  for (const auto& [id, counts] : actor) {
-    if (counts.second < params.min_moving_pixels) continue;
+  for (const auto& [id, counts] : po.actors) {
+    if (counts.moving < params.min_moving_pixels) continue;
     ++c.actors;
     for (auto it = overlap.lower_bound({id, 0}); it != overlap.end() && it->first.first == id; ++it) {
       const int inter = it->second;
-      const int uni = counts.first + cluster[it->first.second] - inter;
+      const int uni = counts.pixels + cluster.at(it->first.second) - inter;
       if (2 * inter > uni) {  // IoU > 0.5: at most one cluster per actor and one actor per cluster
         ++c.actors_matched;
         cluster_matched[it->first.second] = true;

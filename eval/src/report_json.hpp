@@ -4,6 +4,8 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <map>
+#include <string>
 #include <nlohmann/json.hpp>
 
 #include "fmcw/eval/evaluator.hpp"
@@ -28,6 +30,40 @@ inline json motion(const MotionConfusion& m) {
           {"fn", m.fn}};
 }
 
+/// Order statistics of a list of errors [m/s].
+inline json error_json(const ErrorStats& e) {
+  return {{"count", e.count},
+          {"median", number(e.median)},
+          {"p90", number(e.p90)},
+          {"p95", number(e.p95)},
+          {"max", number(e.max)},
+          {"share_over_0p5mps", number(e.share_over_0p5mps)},
+          {"share_over_1mps", number(e.share_over_1mps)}};
+}
+
+inline json error_map_json(const std::map<std::string, ErrorStats>& m) {
+  json out = json::object();
+  for (const auto& [k, e] : m) out[k] = error_json(e);
+  return out;
+}
+
+inline json mot_json(const MotMetrics& m) {
+  return {{"mota", number(m.mota)},
+          {"motp_m", number(m.motp_m)},
+          {"motp_iou", number(m.motp_iou)},
+          {"idf1", number(m.idf1)},
+          {"idp", number(m.idp)},
+          {"idr", number(m.idr)},
+          {"id_switches", m.id_switches},
+          {"fragmentations", m.fragmentations},
+          {"objects", m.objects},
+          {"hypotheses", m.hypotheses},
+          {"matches", m.matches},
+          {"misses", m.misses},
+          {"false_positives", m.false_positives},
+          {"idtp", m.idtp}};
+}
+
 /// The targets held and the thresholds of the metrics they are held on.
 inline json held_targets(const EvaluationParams& p) {
   const Targets& t = p.targets;
@@ -36,6 +72,12 @@ inline json held_targets(const EvaluationParams& p) {
           {"max_median_error_ge200_mps", t.max_median_error_large_mps},
           {"max_yaw_rate_rmse_dps", t.max_yaw_rate_rmse_dps},
           {"min_blind_recall", t.min_blind_recall},
+          {"max_p95_error_ge200_mps", t.max_p95_error_large_mps},
+          {"max_share_over_1mps_ge200", t.max_share_over_1mps_large},
+          {"coverage_95_range", json::array({t.min_coverage_95, t.max_coverage_95})},
+          {"min_mota", t.min_mota},
+          {"min_idf1", t.min_idf1},
+          {"mot_iou_threshold", p.summary.mot_iou_threshold},
           {"blind_band_mps", p.blind_band_mps},
           {"large_object_pixels", p.summary.large_object_pixels},
           {"min_moving_pixels", p.objects.min_moving_pixels}};

@@ -14,6 +14,9 @@ void SummaryParams::validate() const {
   FMCW_CHECK_ARG(large_object_pixels >= 1, "summary: large_object_pixels must be >= 1, got ", large_object_pixels);
   FMCW_CHECK_ARG(blind_visible_pixels >= 1, "summary: blind_visible_pixels must be >= 1, got ", blind_visible_pixels);
   FMCW_CHECK_ARG(turning_yaw_rate_rps >= 0.0, "summary: turning_yaw_rate_rps must be >= 0, got ", turning_yaw_rate_rps);
+  MotParams{mot_iou_threshold}.validate();
+  FMCW_CHECK_ARG(unobservable_sigma_mps > 0.0, "summary: unobservable_sigma_mps must be > 0, got ", unobservable_sigma_mps);
+  FMCW_CHECK_ARG(young_updates >= 1, "summary: young_updates must be >= 1, got ", young_updates);
 }
 
 namespace {
@@ -104,6 +107,11 @@ MethodSummary summarize(const std::vector<FrameEvaluation>& frames, const Summar
   s.instance_recall = ratio(s.instances.actors_matched, s.instances.actors);
   s.blind_recall_tracked = ratio(static_cast<double>(s.blind_band_detected), static_cast<double>(s.blind_band_pixels));
   s.blind_part_recall = ratio(static_cast<double>(s.blind_part_detected), static_cast<double>(s.blind_part_pixels));
+  s.tails = object_tails(frames, {params.large_object_pixels, params.unobservable_sigma_mps, params.young_updates});
+  std::vector<TrackingFrame> tracking;
+  tracking.reserve(frames.size());
+  for (const FrameEvaluation& f : frames) tracking.push_back(f.tracking);
+  s.tracking = clear_mot(tracking, {params.mot_iou_threshold});
   const double n = frames.empty() ? kNaN : static_cast<double>(frames.size());
   s.mean_timing_ms = {sum.clustering_ms / n, sum.ego_ms / n, sum.objects_ms / n, sum.total_ms / n};
   return s;
@@ -124,6 +132,12 @@ std::vector<TargetCheck> check_targets(const MethodSummary& s, const Targets& t)
   at_most("yaw_rate_rmse", s.yaw_rate_rmse_dps, t.max_yaw_rate_rmse_dps);
   at_most("object_median_ge200", s.median_error_mps_ge200, t.max_median_error_large_mps);
   at_most("object_centre_median_ge200", s.median_reference_error_mps_ge200, t.max_median_error_large_mps);
+  at_most("object_centre_p95_ge200", s.tails.ge200.p95, t.max_p95_error_large_mps);
+  at_most("object_centre_share_over_1mps_ge200", s.tails.ge200.share_over_1mps, t.max_share_over_1mps_large);
+  at_least("covariance_coverage_95_min", s.tails.calibration.coverage_95, t.min_coverage_95);
+  at_most("covariance_coverage_95_max", s.tails.calibration.coverage_95, t.max_coverage_95);
+  at_least("tracking_mota", s.tracking.all.mota, t.min_mota);
+  at_least("tracking_idf1", s.tracking.all.idf1, t.min_idf1);
   if (s.blind_band_pixels > 0) at_least("blind_zone_recall_tracked", s.blind_recall_tracked, t.min_blind_recall);
   return out;
 }

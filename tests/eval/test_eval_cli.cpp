@@ -76,6 +76,14 @@ TEST_F(EvalCli, EvaluateWritesEveryDocumentedKeyAndFigure) {
     for (const char* k : {"evaluated", "detected_fraction", "median_error_mps", "median_error_mps_ge200"}) {
       EXPECT_TRUE(x.at("objects").contains(k)) << k;
     }
+    for (const char* k : {"centre_error_p90_mps_ge200", "centre_error_p95_mps_ge200", "centre_error_max_mps_ge200",
+                          "centre_error_share_over_1mps_ge200", "centre_error_share_over_0p5mps_ge200", "by_class",
+                          "by_distance", "by_track_age", "covariance_coverage_95", "mean_nees", "calibration"}) {
+      EXPECT_TRUE(x.at("objects").contains(k)) << k;
+    }
+    for (const char* k : {"mota", "motp_m", "id_switches", "fragmentations", "idf1", "by_class"}) {
+      EXPECT_TRUE(x.at("tracking").contains(k)) << k;
+    }
     for (const char* k : {"clustering", "ego", "objects", "total"}) EXPECT_TRUE(x.at("timing_ms").contains(k)) << k;
     EXPECT_TRUE(x.at("motion").at("accuracy").is_number());
   }
@@ -83,7 +91,7 @@ TEST_F(EvalCli, EvaluateWritesEveryDocumentedKeyAndFigure) {
     EXPECT_TRUE(m.at("dataset").contains(k)) << k;
   }
   for (const auto& [key, file] : m.at("files").items()) EXPECT_TRUE(fs::is_regular_file(rep / file.get<std::string>())) << key;
-  EXPECT_EQ(expect_report_figures(rep), 8);
+  EXPECT_EQ(expect_report_figures(rep), 9);  // with the error CDF
   // Per frame and method.
   std::istringstream frames(slurp(rep / "frames.csv"));
   std::string line;

@@ -29,6 +29,7 @@ TEST(Evaluator, ExactOnANoiseFreeRigidScene) {
   for (std::size_t m = 0; m < r.methods.size(); ++m) {
     const MethodSummary& s = r.summaries[m];
     SCOPED_TRACE(r.methods[m]);
+    const bool tracks = r.methods[m] == "tracked";
     EXPECT_EQ(s.frames, 3);
     EXPECT_DOUBLE_EQ(s.motion.accuracy(), 1.0);
     EXPECT_DOUBLE_EQ(s.motion.precision(), 1.0);
@@ -36,13 +37,28 @@ TEST(Evaluator, ExactOnANoiseFreeRigidScene) {
     EXPECT_LT(s.ego_max_abs_mps.maxCoeff(), 1e-4);
     EXPECT_EQ(s.objects_evaluated, 3);
     EXPECT_DOUBLE_EQ(s.detected_fraction, 1.0);
-    EXPECT_LT(s.median_error_mps, 1e-3);
-    EXPECT_LT(s.median_error_mps_ge200, 1e-3);  // the box has thousands of pixels
+    // A single scan is exact; a track also follows its box's path, whose centre moves a little
+    // as the view of the box changes: a few mm/s.
+    const double exact = tracks ? 0.02 : 1e-3;
+    EXPECT_LT(s.median_error_mps, exact);
+    EXPECT_LT(s.median_error_mps_ge200, exact);  // the box has thousands of pixels
     for (const TargetCheck& c : r.checks[m]) {
-      // paper and fast assume a rig that does not turn: they have no yaw rate to check.
-      const bool has_yaw = r.methods[m] == "robust" || r.methods[m] == "tracked";
-      EXPECT_EQ(c.met, c.key != "yaw_rate_rmse" || has_yaw) << c.key;
+      // Without noise the covariances are from residuals at rounding level: their coverage
+      // means nothing here (tests/eval/test_tracking_metrics.cpp checks NEES on known draws).
+      if (c.key.rfind("covariance_coverage", 0) == 0) continue;
+      // paper and fast assume a rig that does not turn: they have no yaw rate to check; nor
+      // do they track, so the tracking targets are theirs to miss.
+      const bool has_yaw = r.methods[m] == "robust" || tracks;
+      const bool needs_tracks = c.key == "tracking_mota" || c.key == "tracking_idf1";
+      EXPECT_EQ(c.met, (c.key != "yaw_rate_rmse" || has_yaw) && (!needs_tracks || tracks)) << c.key;
     }
+    // The box is matched every frame; a method without tracks gets a new id every frame.
+    EXPECT_EQ(s.tracking.all.matches, 3);
+    EXPECT_EQ(s.tracking.all.id_switches, tracks ? 0 : 2);
+    EXPECT_DOUBLE_EQ(s.tracking.all.mota, tracks ? 1.0 : 1.0 / 3.0);
+    EXPECT_DOUBLE_EQ(s.tracking.all.idf1, tracks ? 1.0 : 1.0 / 3.0);
+    EXPECT_EQ(s.tails.ge200.count, 3);
+    EXPECT_LT(s.tails.ge200.max, exact);
     EXPECT_EQ(s.yaw_frames, r.methods[m] == "paper" || r.methods[m] == "fast" ? 0 : 3);
     // One box, one cluster, every frame.
     EXPECT_EQ(s.instances.actors, 3);

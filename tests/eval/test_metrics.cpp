@@ -138,8 +138,13 @@ TEST(Targets, MetMissedAndUnmeasurable) {
   s.median_error_mps_ge200 = NAN;
   s.yaw_rate_rmse_dps = 0.4;
   s.median_reference_error_mps_ge200 = 0.2;
+  s.tails.ge200.p95 = 0.4;
+  s.tails.ge200.share_over_1mps = 0.03;
+  s.tails.calibration.coverage_95 = 0.99;  // too wide an ellipse: the upper bound is missed
+  s.tracking.all.mota = 0.9;
+  s.tracking.all.idf1 = NAN;
   std::vector<TargetCheck> c = check_targets(s);
-  ASSERT_EQ(c.size(), 7u);  // no blind-band check: the run had no blind-band pixels
+  ASSERT_EQ(c.size(), 13u);  // no blind-band check: the run had no blind-band pixels
   EXPECT_TRUE(c[0].met);   // accuracy 0.996 >= 0.995
   EXPECT_TRUE(c[1].met);   // x 0.005 <= 0.01
   EXPECT_FALSE(c[2].met);  // y 0.02 > 0.01
@@ -150,16 +155,28 @@ TEST(Targets, MetMissedAndUnmeasurable) {
   EXPECT_FALSE(c[5].met);  // nothing to measure is not a pass
   EXPECT_EQ(c[6].key, "object_centre_median_ge200");
   EXPECT_FALSE(c[6].met);  // 0.2 > 0.1
+  EXPECT_EQ(c[7].key, "object_centre_p95_ge200");
+  EXPECT_TRUE(c[7].met);  // 0.4 <= 0.5
+  EXPECT_EQ(c[8].key, "object_centre_share_over_1mps_ge200");
+  EXPECT_FALSE(c[8].met);  // 3 % > 2 %
+  EXPECT_EQ(c[9].key, "covariance_coverage_95_min");
+  EXPECT_TRUE(c[9].met);
+  EXPECT_EQ(c[10].key, "covariance_coverage_95_max");
+  EXPECT_FALSE(c[10].met);  // 0.99 > 0.98
+  EXPECT_EQ(c[11].key, "tracking_mota");
+  EXPECT_TRUE(c[11].met);
+  EXPECT_EQ(c[12].key, "tracking_idf1");
+  EXPECT_FALSE(c[12].met);  // nothing to measure
 
   s.blind_band_pixels = 100;
   s.blind_band_detected = 95;
   s.blind_recall_tracked = 0.95;
   s.yaw_rate_rmse_dps = NAN;  // a method that does not estimate the yaw rate
   c = check_targets(s);
-  ASSERT_EQ(c.size(), 8u);
+  ASSERT_EQ(c.size(), 14u);
   EXPECT_FALSE(c[4].met);
-  EXPECT_EQ(c[7].key, "blind_zone_recall_tracked");
-  EXPECT_TRUE(c[7].met);  // 0.95 >= 0.9
+  EXPECT_EQ(c[13].key, "blind_zone_recall_tracked");
+  EXPECT_TRUE(c[13].met);  // 0.95 >= 0.9
 }
 
 }  // namespace

@@ -25,6 +25,7 @@ inline core::Frame synthetic_frame(std::size_t k) {
   core::Frame f = core::render_synthetic_scan(p);
   core::FrameTruth t;
   t.stamp_s = 0.1 * static_cast<double>(k);
+  f.scan.stamp_s = t.stamp_s;  // a tracker resets on a stamp that does not advance
   t.ego.velocity_mps = p.ego_velocity_mps;
   core::ActorTruth a;
   a.id = 1;

@@ -13,6 +13,12 @@ TARGET_TEXT = {
     "object_median_ge200": "median object velocity error, objects ≥ 200 points",
     "object_centre_median_ge200": "median error of the velocity at the object's centre, objects ≥ 200 points",
     "blind_zone_recall_tracked": "recall inside the Doppler blind band, objects seen moving before",
+    "object_centre_p95_ge200": "95th percentile of the centre-velocity error, objects ≥ 200 points",
+    "object_centre_share_over_1mps_ge200": "share of object-frames (≥ 200 points) off by more than 1 m/s",
+    "covariance_coverage_95_min": "share of errors inside their own 95 % covariance ellipse (lower bound)",
+    "covariance_coverage_95_max": "share of errors inside their own 95 % covariance ellipse (upper bound)",
+    "tracking_mota": "MOTA, all classes",
+    "tracking_idf1": "IDF1, all classes",
 }
 
 
@@ -138,6 +144,30 @@ def _diagnose(data, m):
         elif c["key"] == "blind_zone_recall_tracked":
             text += (" Objects whose own motion lies along the beam by less than the band cannot be told from the "
                      "static world in one scan; only tracking across frames keeps them moving.")
+        elif c["key"] in ("object_centre_p95_ge200", "object_centre_share_over_1mps_ge200"):
+            o = ms["objects"]
+            worst = max(o["by_distance"].items(), key=lambda kv: kv[1]["p95"] or 0.0, default=None)
+            young = o["by_track_age"]
+            text += (f" Median {fmt(o['centre_error_median_mps_ge200'], 3)} m/s, worst "
+                     f"{fmt(o['centre_error_max_mps_ge200'], 3)} m/s over {o['centre_error_count_ge200']} "
+                     "object-frames.")
+            if worst:
+                text += f" The worst distance band is {esc(worst[0])} m (p95 {fmt(worst[1]['p95'], 3)} m/s)."
+            text += " By age: " + "; ".join(f"{esc(k)} p95 {fmt(v['p95'], 3)} m/s ({v['count']})"
+                                            for k, v in young.items()) + ". See the tails table."
+        elif c["key"].startswith("covariance_coverage"):
+            cal = ms["objects"]["calibration"]
+            text += (f" Mean NEES {fmt(ms['objects']['mean_nees'], 3)} (a calibrated estimate: "
+                     f"{fmt(cal['mean_dof'], 2)}), over {cal['scored']} of {cal['estimates']} estimates. "
+                     + ("Too small a share: the reported covariance is too small for the errors made."
+                        if c["key"].endswith("_min") else
+                        "Too large a share: the reported covariance is wider than the errors."))
+        elif c["key"] in ("tracking_mota", "tracking_idf1"):
+            tr = ms["tracking"]
+            text += (f" {tr['misses']} misses, {tr['false_positives']} false positives and {tr['id_switches']} "
+                     f"identity switches over {tr['objects']} object-frames."
+                     + (" This method does not track: every cluster is a new track in every frame."
+                        if m in ("paper", "fast", "robust") else ""))
         elif c["key"] in ("object_median_ge200", "object_centre_median_ge200"):
             o = ms["objects"]
             text += (f" Over {o['large']} object-frames with ≥ {data.metrics['targets']['large_object_pixels']} "
@@ -170,6 +200,49 @@ def _class_table(data):
     for m in data.methods:
         header += [f"<code>{esc(m)}</code> evaluated", "detected", "median error [m/s]", f"≥ {large} pts"]
     return html_table(header, rows)
+
+
+def _tails_tables(data):
+    """The tails of the centre-velocity error, calibration and tracking, every method (metrics.json)."""
+    ms = data.metrics["methods"]
+    methods = data.methods
+    head = ["metric"] + [f"<code>{esc(x)}</code>" for x in methods]
+    rows = []
+
+    def row(name, key, digits=3, fn=None):
+        vals = [_dig(ms[x], key) for x in methods]
+        rows.append([name] + [fn(v) if fn else fmt(v, digits) for v in vals])
+
+    row("median [m/s]", "objects.centre_error_median_mps_ge200")
+    row("90th percentile [m/s]", "objects.centre_error_p90_mps_ge200")
+    row("95th percentile [m/s]", "objects.centre_error_p95_mps_ge200")
+    row("worst [m/s]", "objects.centre_error_max_mps_ge200")
+    row("share over 0.5 m/s", "objects.centre_error_share_over_0p5mps_ge200", 4)
+    row("share over 1 m/s", "objects.centre_error_share_over_1mps_ge200", 4)
+    row("object-frames", "objects.centre_error_count_ge200", fn=lambda v: fmt(int(v)))
+    row("covariance coverage, 95 % ellipse (all sizes)", "objects.covariance_coverage_95", 4)
+    row("mean NEES (calibrated: the mean observed dimensions)", "objects.mean_nees", 3)
+    row("estimates without a covariance / partly unobservable", "objects.calibration",
+        fn=lambda c: f"{c['without_covariance']} / {c['partly_unobservable']}")
+    row("MOTA", "tracking.mota", 4)
+    row("MOTP [m] / mean IoU", "tracking", fn=lambda t: f"{fmt(t['motp_m'], 3)} / {fmt(t['motp_iou'], 3)}")
+    row("IDF1", "tracking.idf1", 4)
+    row("identity switches / fragmentations", "tracking", fn=lambda t: f"{t['id_switches']} / {t['fragmentations']}")
+    row("misses / false positives / objects", "tracking",
+        fn=lambda t: f"{t['misses']} / {t['false_positives']} / {t['objects']}")
+    out = [html_table(head, rows)]
+    # Breakdowns: p95 (count) per group.
+    for title, key in [("distance band [m]", "by_distance"), ("track age", "by_track_age"), ("class", "by_class")]:
+        groups = sorted(set(g for x in methods for g in ms[x]["objects"][key]))
+        brows = [[esc(g)] + [(lambda e: f"{fmt(e['median'], 3)} / {fmt(e['p95'], 3)} / {fmt(e['share_over_1mps'], 3)} "
+                                        f"({e['count']})" if e else "–")(ms[x]["objects"][key].get(g))
+                             for x in methods] for g in groups]
+        out.append(html_table([title + ": median / p95 [m/s] / share > 1 m/s (count)"] + head[1:], brows))
+    classes = sorted(set(c for x in methods for c in ms[x]["tracking"]["by_class"]))
+    crows = [[esc(c)] + [(lambda t: f"{fmt(t['mota'], 3)} / {fmt(t['idf1'], 3)} ({t['objects']})" if t else "–")(
+        ms[x]["tracking"]["by_class"].get(c)) for x in methods] for c in classes]
+    out.append(html_table(["class: MOTA / IDF1 (object-frames)"] + head[1:], crows))
+    return "\n".join(out)
 
 
 def build_html(data, figures):
@@ -217,6 +290,15 @@ def build_html(data, figures):
     body.append('<p class="small">Object-frames with at least the minimum number of truly moving pixels; '
                 "detected = more than half of the actor's valid pixels in one moving cluster.</p>")
 
+    body.append("<h2>Tails, calibration and tracking</h2>")
+    body.append(_tails_tables(data))
+    body.append('<p class="small">Centre-velocity errors: |estimate − the actor\'s velocity at its origin| for '
+                f"object-frames with ≥ {data.metrics['targets']['large_object_pixels']} points. Coverage: the share of "
+                "estimates whose ground-plane error lies inside the 95 % ellipse of their own reported covariance "
+                "(NEES below the χ² quantile); a calibrated method sits near 0.95. Tracking: CLEAR MOT and IDF1, "
+                f"tracks matched to actors per frame by point IoU ≥ {data.metrics['targets']['mot_iou_threshold']}; "
+                "a method without tracks has one track per cluster per frame. Definitions: docs/EVALUATION.md.</p>")
+
     captions = {
         "dataset": "The dataset as the paper's Table II describes it, with the paper's figures for the matching "
                    "CARLA dataset; right: truly moving points per scan and the ego's speed.",
@@ -231,11 +313,13 @@ def build_html(data, figures):
         "fig8": "Object velocity error against the object's number of points, each detected object in each frame "
                 "(Fig. 8). Left: against the mean true velocity of its points in the cluster; right: against its "
                 "reference velocity. The thick lines are medians per size bin.",
+        "cdf": "The tail of the centre-velocity error: for each method, the share of object-frames (≥ 200 points) "
+               "whose error is below x. A curve that reaches 1 only far to the right has a long tail.",
         "fig9": "Velocity-estimation time (ego + objects) against the number of moving clusters, with linear fits "
                 "(Fig. 9).",
     }
     body.append("<h2>Figures</h2>")
-    for key in ["dataset", "fig1", "fig4", "fig5", "fig6", "fig7", "fig8", "fig9"]:
+    for key in ["dataset", "fig1", "fig4", "fig5", "fig6", "fig7", "fig8", "cdf", "fig9"]:
         if figures.get(key):
             body.append(html_figure(figures[key], captions[key]))
     files = m["files"]

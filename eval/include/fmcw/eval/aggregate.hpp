@@ -8,16 +8,9 @@
 #include <vector>
 
 #include "fmcw/eval/evaluator.hpp"
+#include "fmcw/eval/tail_metrics.hpp"
 
 namespace fmcw::eval {
-
-/// Order statistics of object velocity errors [m/s].
-struct ErrorStats {
-  int count = 0;
-  double median = 0.0, p90 = 0.0, p95 = 0.0, max = 0.0;  ///< NaN when count is 0
-  double share_over_1mps = 0.0;  ///< share of the errors above 1 m/s (NaN when count is 0)
-};
-ErrorStats error_stats(const std::vector<double>& errors_mps);
 
 /// One method on one dataset.
 struct MethodDigest {

@@ -14,6 +14,7 @@ struct EvaluationFiles {
   static constexpr const char* kMetrics = "metrics.json";
   static constexpr const char* kFrames = "frames.csv";    ///< per frame and method
   static constexpr const char* kObjects = "objects.csv";  ///< per frame, actor and method
+  static constexpr const char* kTracks = "tracks.csv";    ///< per frame, method and moving cluster
   static constexpr const char* kSnapshotPixels = "snapshot_pixels.csv";      ///< every pixel of the snapshot frame
   static constexpr const char* kSnapshotClusters = "snapshot_clusters.csv";  ///< its clusters per method
   static constexpr const char* kSnapshotActors = "snapshot_actors.csv";      ///< its actors' truth

@@ -10,6 +10,7 @@
 #include "fmcw/core/motion_pipeline.hpp"
 #include "fmcw/eval/motion_confusion.hpp"
 #include "fmcw/eval/object_matching.hpp"
+#include "fmcw/eval/tracking_metrics.hpp"
 
 namespace fmcw::eval {
 
@@ -29,6 +30,7 @@ struct FrameEvaluation {
   Eigen::Vector3d ego_truth_at_heads_mps = Eigen::Vector3d::Zero();
   std::vector<ObjectMatch> objects;
   InstanceCounts instances;
+  TrackingFrame tracking;  ///< objects, tracks and their overlaps, for the tracking metrics
   std::vector<BlindBandActor> blind_band;  ///< see blind_band_actors
   /// Yaw rate: valid when the method estimates it (and the ego velocity is valid).
   bool yaw_rate_valid = false;

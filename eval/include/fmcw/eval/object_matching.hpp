@@ -49,6 +49,8 @@ struct ObjectMatch {
   Eigen::Vector3d estimate_centre_m = Eigen::Vector3d::Constant(core::VelocityEstimate::kNaN);
   double estimate_yaw_rate_rps = core::VelocityEstimate::kNaN;
   std::int32_t estimate_track_id = 0;  ///< the cluster's track (0: untracked)
+  /// The estimate's reported covariance (VelocityEstimate::covariance; NaN when none) [m^2/s^2].
+  Eigen::Matrix3d estimate_covariance = Eigen::Matrix3d::Constant(core::VelocityEstimate::kNaN);
 
   /// estimate - truth_mean (NaN unless estimate_valid) [m/s]
   Eigen::Vector3d error_mps() const { return estimate_mps - truth_mean_mps; }

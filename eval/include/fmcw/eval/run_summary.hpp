@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "fmcw/eval/frame_evaluation.hpp"
+#include "fmcw/eval/tail_metrics.hpp"
+#include "fmcw/eval/tracking_metrics.hpp"
 
 namespace fmcw::eval {
 
@@ -19,6 +21,12 @@ struct SummaryParams {
   int blind_visible_pixels = 20;
   /// Objects turning faster than this count as turning [rad/s] (about 3 deg/s).
   double turning_yaw_rate_rps = 0.05;
+  /// Tracks match objects when their point IoU is at least this (MotParams).
+  double mot_iou_threshold = 0.5;
+  /// Directions whose reported sigma exceeds this count as unobservable (TailParams) [m/s].
+  double unobservable_sigma_mps = 1e3;
+  /// Object-frames in the first this many frames of their actor count as young [frames].
+  int young_updates = 5;
 
   void validate() const;
 };
@@ -65,6 +73,11 @@ struct MethodSummary {
   std::uint64_t blind_part_detected = 0;
   double blind_part_recall = 0.0;
 
+  /// Tails and calibration of the centre-velocity errors (tail_metrics.hpp).
+  ObjectTails tails;
+  /// CLEAR MOT and IDF1 (tracking_metrics.hpp).
+  MotReport tracking;
+
   core::StageTiming mean_timing_ms;  ///< mean per frame
   core::StageTiming max_timing_ms;   ///< worst frame
 };
@@ -79,12 +92,23 @@ struct Targets {
   double max_median_error_large_mps = 0.1;  ///< median object error, >= 200 pixels [m/s]
   double max_yaw_rate_rmse_dps = 0.5;       ///< ego yaw rate [deg/s]
   double min_blind_recall = 0.9;            ///< blind_zone.recall_tracked (checked when there is a band)
+  /// The tails (objects with >= 200 points, velocity at the centre).
+  double max_p95_error_large_mps = 0.5;
+  double max_share_over_1mps_large = 0.02;
+  /// covariance_coverage_95 inside [min, max]: the reported uncertainty neither too small nor
+  /// too large.
+  double min_coverage_95 = 0.90;
+  double max_coverage_95 = 0.98;
+  double min_mota = 0.85;  ///< tracking.mota over all classes
+  double min_idf1 = 0.85;  ///< tracking.idf1 over all classes
 };
 
 struct TargetCheck {
   /// "accuracy", "ego_rmse_x", "ego_rmse_y", "ego_rmse_z", "yaw_rate_rmse", "object_median_ge200"
   /// (against the mean surface velocity of the cluster's points), "object_centre_median_ge200"
-  /// (against the velocity of the actor's centre), "blind_zone_recall_tracked".
+  /// (against the velocity of the actor's centre), "blind_zone_recall_tracked",
+  /// "object_centre_p95_ge200", "object_centre_share_over_1mps_ge200", "covariance_coverage_95_min",
+  /// "covariance_coverage_95_max", "tracking_mota", "tracking_idf1".
   std::string key;
   std::string relation;  ///< ">=" or "<="
   double value = 0.0;

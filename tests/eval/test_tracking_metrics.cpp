@@ -1,0 +1,203 @@
+// CLEAR MOT and IDF1 on hand-made track sequences with known answers, the assignment they use,
+// and the calibration score (NEES) on estimates drawn from their own covariance.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "fmcw/eval/tail_metrics.hpp"
+#include "fmcw/eval/tracking_metrics.hpp"
+
+namespace {
+
+using namespace fmcw::eval;
+
+// A frame in which each listed (actor, track, iou) pair overlaps: the actor and the track both
+// have 100 pixels, their overlap is chosen so that the IoU is the one given.
+struct Pair {
+  std::uint32_t actor;
+  std::int64_t track;
+  double iou;
+};
+TrackingFrame frame(const std::vector<std::uint32_t>& actors, const std::vector<std::int64_t>& tracks,
+                    const std::vector<Pair>& pairs, const std::string& cls = "car") {
+  TrackingFrame f;
+  for (const std::uint32_t a : actors) f.truths.push_back({a, cls, 100, Eigen::Vector3d(a, 0, 0)});
+  for (const std::int64_t t : tracks) {
+    TrackObservation o;
+    o.track = t;
+    o.pixels = 100;
+    o.class_name = cls;
+    f.tracks.push_back(o);
+  }
+  for (const Pair& p : pairs) {
+    int ai = -1, ti = -1;
+    for (std::size_t i = 0; i < actors.size(); ++i) ai = actors[i] == p.actor ? static_cast<int>(i) : ai;
+    for (std::size_t j = 0; j < tracks.size(); ++j) ti = tracks[j] == p.track ? static_cast<int>(j) : ti;
+    // iou = x / (200 - x)  =>  x = 200 iou / (1 + iou)
+    f.overlaps.push_back({ai, ti, static_cast<int>(std::lround(200.0 * p.iou / (1.0 + p.iou)))});
+  }
+  return f;
+}
+
+TEST(MaxWeightAssignment, FindsTheBestOneToOnePairing) {
+  // Greedy would take (0,0) = 0.9 and leave row 1 with 0.1; the best is 0.8 + 0.7.
+  const std::vector<int> a = max_weight_assignment({{0.9, 0.8}, {0.7, 0.0}});
+  EXPECT_EQ(a, (std::vector<int>{1, 0}));
+  // More rows than columns; zero weight is no pair.
+  const std::vector<int> b = max_weight_assignment({{0.0}, {0.5}, {0.0}});
+  EXPECT_EQ(b, (std::vector<int>{-1, 0, -1}));
+  EXPECT_EQ(max_weight_assignment({{0.0, 0.0}}), (std::vector<int>{-1}));
+}
+
+TEST(ClearMot, PerfectTrackingScoresOne) {
+  std::vector<TrackingFrame> frames;
+  for (int k = 0; k < 10; ++k) frames.push_back(frame({1, 2}, {7, 8}, {{1, 7, 0.9}, {2, 8, 0.8}}));
+  const MotMetrics m = clear_mot(frames).all;
+  EXPECT_EQ(m.objects, 20);
+  EXPECT_EQ(m.matches, 20);
+  EXPECT_DOUBLE_EQ(m.mota, 1.0);
+  EXPECT_DOUBLE_EQ(m.idf1, 1.0);
+  EXPECT_EQ(m.id_switches, 0);
+  EXPECT_EQ(m.fragmentations, 0);
+  EXPECT_NEAR(m.motp_m, 1.5, 1e-12);  // truth centres at x = 1 and 2, tracks at the origin
+}
+
+TEST(ClearMot, ASwitchCostsMotaOnceAndIdf1Half) {
+  std::vector<TrackingFrame> frames;
+  for (int k = 0; k < 10; ++k) frames.push_back(frame({1}, {k < 5 ? 7 : 8}, {{1, k < 5 ? 7 : 8, 0.9}}));
+  const MotMetrics m = clear_mot(frames).all;
+  EXPECT_EQ(m.id_switches, 1);
+  EXPECT_EQ(m.false_positives, 0);
+  EXPECT_DOUBLE_EQ(m.mota, 1.0 - 1.0 / 10.0);
+  EXPECT_EQ(m.idtp, 5);  // object 1 is paired with one of the two tracks, five frames each
+  EXPECT_DOUBLE_EQ(m.idf1, 2.0 * 5 / (10 + 10));
+}
+
+TEST(ClearMot, AFragmentIsCountedAndTheGapIsMissed) {
+  std::vector<TrackingFrame> frames;
+  for (int k = 0; k < 10; ++k) {
+    const bool gap = k == 4 || k == 5;
+    frames.push_back(gap ? frame({1}, {}, {}) : frame({1}, {7}, {{1, 7, 0.9}}));
+  }
+  const MotMetrics m = clear_mot(frames).all;
+  EXPECT_EQ(m.misses, 2);
+  EXPECT_EQ(m.fragmentations, 1);
+  EXPECT_EQ(m.id_switches, 0);  // the same track resumes
+  EXPECT_DOUBLE_EQ(m.mota, 1.0 - 2.0 / 10.0);
+  EXPECT_DOUBLE_EQ(m.idf1, 2.0 * 8 / (10 + 8));
+}
+
+TEST(ClearMot, AFalseTrackCostsItsFrames) {
+  std::vector<TrackingFrame> frames;
+  for (int k = 0; k < 10; ++k) {
+    frames.push_back(k < 3 ? frame({1}, {7, 9}, {{1, 7, 0.9}}) : frame({1}, {7}, {{1, 7, 0.9}}));
+  }
+  const MotMetrics m = clear_mot(frames).all;
+  EXPECT_EQ(m.false_positives, 3);
+  EXPECT_DOUBLE_EQ(m.mota, 1.0 - 3.0 / 10.0);
+  EXPECT_DOUBLE_EQ(m.idf1, 2.0 * 10 / (10 + 13));
+}
+
+TEST(ClearMot, TheThresholdDecidesAMatchAndAnUntrackedMethodPaysForNewIds) {
+  // IoU 0.45: a miss and a false positive at 0.5, a match at 0.4.
+  const std::vector<TrackingFrame> frames = {frame({1}, {7}, {{1, 7, 0.45}})};
+  EXPECT_EQ(clear_mot(frames, {0.5}).all.matches, 0);
+  EXPECT_DOUBLE_EQ(clear_mot(frames, {0.5}).all.mota, -1.0);
+  EXPECT_EQ(clear_mot(frames, {0.4}).all.matches, 1);
+  // A new track id every frame (one per cluster per frame) switches every frame.
+  std::vector<TrackingFrame> untracked;
+  for (int k = 0; k < 4; ++k) untracked.push_back(frame({1}, {-(k + 1)}, {{1, -(k + 1), 0.9}}));
+  const MotMetrics u = clear_mot(untracked).all;
+  EXPECT_EQ(u.id_switches, 3);
+  EXPECT_DOUBLE_EQ(u.idf1, 2.0 * 1 / (4 + 4));
+}
+
+TEST(ClearMot, KeepsALastingCorrespondenceOverABetterNewOne) {
+  std::vector<TrackingFrame> frames = {frame({1}, {7}, {{1, 7, 0.9}}),
+                                       frame({1}, {7, 8}, {{1, 7, 0.6}, {1, 8, 0.9}})};
+  const MotMetrics m = clear_mot(frames).all;
+  EXPECT_EQ(m.id_switches, 0);
+  EXPECT_EQ(m.false_positives, 1);  // track 8
+}
+
+TEST(ClearMot, ByClassKeepsEachClassApart) {
+  std::vector<TrackingFrame> frames;
+  for (int k = 0; k < 4; ++k) {
+    TrackingFrame f = frame({1}, {7}, {{1, 7, 0.9}}, "car");
+    TrackingFrame p = frame({2}, {}, {}, "pedestrian");  // a pedestrian never tracked
+    f.truths.push_back(p.truths[0]);
+    frames.push_back(f);
+  }
+  const MotReport r = clear_mot(frames);
+  EXPECT_DOUBLE_EQ(r.by_class.at("car").mota, 1.0);
+  EXPECT_DOUBLE_EQ(r.by_class.at("pedestrian").mota, 0.0);
+  EXPECT_DOUBLE_EQ(r.all.mota, 0.5);
+}
+
+TEST(Nees, EstimatesDrawnFromTheirOwnCovarianceCoverNinetyFivePercent) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> n01;
+  std::uniform_real_distribution<double> u(0.01, 2.0), angle(0.0, M_PI);
+  int inside = 0, inside_over = 0;
+  double sum = 0.0;
+  const int n = 20000;
+  for (int k = 0; k < n; ++k) {
+    const double a = angle(rng);
+    Eigen::Matrix2d R;
+    R << std::cos(a), -std::sin(a), std::sin(a), std::cos(a);
+    const Eigen::Vector2d sd(u(rng), u(rng));
+    const Eigen::Matrix2d cov = R * sd.cwiseProduct(sd).asDiagonal() * R.transpose();
+    const Eigen::Vector2d e = R * Eigen::Vector2d(sd.x() * n01(rng), sd.y() * n01(rng));
+    const NeesScore s = score_nees(e, cov, 1e3);
+    ASSERT_TRUE(s.has_covariance);
+    ASSERT_EQ(s.dof, 2);
+    inside += s.inside_95 ? 1 : 0;
+    sum += s.nees;
+    inside_over += score_nees(e, 0.25 * cov, 1e3).inside_95 ? 1 : 0;  // claims half the sigma
+  }
+  EXPECT_NEAR(static_cast<double>(inside) / n, 0.95, 0.006);
+  EXPECT_NEAR(sum / n, 2.0, 0.06);
+  EXPECT_LT(static_cast<double>(inside_over) / n, 0.6);  // overconfident: 1 - exp(-5.99 / 8) = 0.53
+}
+
+TEST(Nees, AnUnobservableDirectionIsLeftOut) {
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  cov(0, 0) = 0.01;
+  cov(1, 1) = std::numeric_limits<double>::infinity();
+  const NeesScore s = score_nees(Eigen::Vector2d(0.05, 40.0), cov, 1e3);
+  EXPECT_EQ(s.dof, 1);
+  EXPECT_NEAR(s.nees, 0.25, 1e-12);
+  EXPECT_TRUE(s.inside_95);
+  const NeesScore none = score_nees(Eigen::Vector2d(0.05, 0.0), Eigen::Matrix2d::Constant(std::nan("")), 1e3);
+  EXPECT_FALSE(none.has_covariance);
+}
+
+TEST(ObjectTails, BreaksErrorsDownByDistanceAndAge) {
+  std::vector<FrameEvaluation> frames;
+  for (int k = 0; k < 8; ++k) {
+    FrameEvaluation f;
+    f.method = "m";
+    ObjectMatch o;
+    o.actor_id = 3;
+    o.class_name = "truck";
+    o.pixels = 300;
+    o.evaluated = o.detected = o.estimate_valid = true;
+    o.distance_m = 50.0;
+    o.reference_mps = Eigen::Vector3d(8, 0, 0);
+    o.estimate_mps = Eigen::Vector3d(k < 5 ? 10 : 8.1, 0, 0);  // young: 2 m/s off; later 0.1
+    f.objects.push_back(o);
+    frames.push_back(f);
+  }
+  const ObjectTails t = object_tails(frames);
+  EXPECT_EQ(t.ge200.count, 8);
+  EXPECT_DOUBLE_EQ(t.ge200.share_over_1mps, 5.0 / 8.0);
+  EXPECT_NEAR(t.by_age.at("first_5").median, 2.0, 1e-12);
+  EXPECT_NEAR(t.by_age.at("later").max, 0.1, 1e-12);
+  EXPECT_EQ(t.by_distance.at("40-80").count, 8);
+  EXPECT_EQ(t.by_class.at("truck").count, 8);
+  EXPECT_EQ(t.calibration.without_covariance, 8);
+}
+
+}  // namespace
