@@ -9,6 +9,8 @@ packages=(
   libeigen3-dev libceres-dev libembree-dev libassimp-dev libyaml-cpp-dev
   libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
   python3-matplotlib python3-numpy
+  # .npz archives: the AevaScenes point clouds (io/npz.cpp)
+  libzip-dev pkg-config
   # Python bindings and their tests; Open3D and PCL's tools check the exports (tests/python).
   pybind11-dev python3-pytest python3-open3d pcl-tools
   # A one-node SLURM cluster the array-job test starts on this machine (tests/slurm), with munge

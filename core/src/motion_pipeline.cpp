@@ -86,6 +86,20 @@ MotionPipeline::MotionPipeline(const MotionPipelineParams& params)
     : params_(params), segmenter_((params.validate(), params.segmentation)), tracker_(params.tracking) {}
 
 MotionEstimate MotionPipeline::process(const Scan& scan, std::uint64_t frame_index) {
+  MotionEstimate out = process_in_scan_frame(scan, frame_index);
+  if (scan.velocity_frame == VelocityFrame::kEgoCompensated) {
+    // The static world reads about 0: what the methods find is the residual of the
+    // compensation, not the rig's motion. Object velocities are absolute already (their rows
+    // are e . V_point); the ego velocity is not measurable from this scan and is not guessed.
+    out.ego = VelocityEstimate{};
+    out.ego_angular_velocity_rps = Eigen::Vector3d::Constant(VelocityEstimate::kNaN);
+    out.ego_yaw_rate_estimated = false;
+    out.ego_measurable = false;
+  }
+  return out;
+}
+
+MotionEstimate MotionPipeline::process_in_scan_frame(const Scan& scan, std::uint64_t frame_index) {
   if (params_.approach == MotionApproach::kRobustEgo) {
     MotionEstimate out = process_robust(scan, frame_index);
     if (params_.track_objects) {

@@ -6,6 +6,16 @@
 
 namespace fmcw::core {
 
+const char* to_string(VelocityFrame frame) {
+  return frame == VelocityFrame::kSensor ? "sensor" : "ego_compensated";
+}
+
+VelocityFrame velocity_frame_from_string(const std::string& name) {
+  if (name == "sensor" || name == "raw") return VelocityFrame::kSensor;
+  if (name == "ego_compensated" || name == "compensated") return VelocityFrame::kEgoCompensated;
+  throw InputError(concat("velocity frame must be sensor (raw) or ego_compensated (compensated), got '", name, "'"));
+}
+
 Scan Scan::make_empty(int rows, int cols) {
   FMCW_CHECK_ARG(rows >= 0 && cols >= 0, "Scan::make_empty: rows and cols must be >= 0, got ", rows,
                  " x ", cols);
@@ -85,6 +95,10 @@ void Scan::validate_layout() const {
   check_size(valid.size(), "valid");
   FMCW_CHECK_ARG(time_offset_s.empty() || time_offset_s.size() == n, "scan: field 't' has ", time_offset_s.size(),
                  " values, expected 0 or rows*cols = ", n);
+  FMCW_CHECK_ARG(line_index.empty() || line_index.size() == n, "scan: field 'line_index' has ", line_index.size(),
+                 " values, expected 0 or rows*cols = ", n);
+  FMCW_CHECK_ARG(velocity_frame == VelocityFrame::kSensor || velocity_frame == VelocityFrame::kEgoCompensated,
+                 "scan: unknown velocity frame ", static_cast<int>(velocity_frame));
   FMCW_CHECK_ARG(!heads.empty() || n == 0, "scan: no heads describe the ", cols, " columns");
   int expected_begin = 0;
   for (std::size_t h = 0; h < heads.size(); ++h) {

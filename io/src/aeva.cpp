@@ -163,6 +163,39 @@ void write_aeva(const std::string& path, const AevaRecords& r) {
   write_file_atomically(path, [&](std::ostream& out) { out.write(bytes.data(), static_cast<std::streamsize>(bytes.size())); });
 }
 
+AevaRecords aeva_records_from_scan(const core::Scan& scan) {
+  scan.validate();
+  FMCW_CHECK_ARG(scan.heads.size() == 1, "Aeva records: the scan has ", scan.heads.size(),
+                 " heads; an Aeva file holds one sensor's points (export a one-head rig)");
+  const Eigen::Isometry3d T_head_rig = scan.heads[0].T_rig_head.inverse();
+  AevaRecords r;
+  for (int row = 0; row < scan.rows; ++row) {
+    for (int col = 0; col < scan.cols; ++col) {
+      const std::size_t i = scan.index(row, col);
+      if (!scan.valid[i]) continue;
+      const int line = scan.line_index.empty() ? row : scan.line_index[i];
+      FMCW_CHECK_ARG(line <= 255, "Aeva records: line ", line, " (row ", row, ") does not fit the record's 8-bit line_index");
+      const Eigen::Vector3d p = T_head_rig * scan.position(i);
+      r.x_m.push_back(static_cast<float>(p.x()));
+      r.y_m.push_back(static_cast<float>(p.y()));
+      r.z_m.push_back(static_cast<float>(p.z()));
+      r.reflectivity.push_back(scan.intensity[i]);
+      r.velocity_mps.push_back(scan.radial_velocity_mps[i]);
+      const double t = scan.time_offset_s.empty() ? 0.0 : static_cast<double>(scan.time_offset_s[i]);
+      r.time_offset_ns.push_back(static_cast<std::int32_t>(std::llround(t * 1e9)));
+      r.line_index.push_back(static_cast<std::uint8_t>(line));
+    }
+  }
+  return r;
+}
+
+std::string aeva_file_name(double stamp_s) {
+  FMCW_CHECK_ARG(std::isfinite(stamp_s) && stamp_s >= 0.0 && stamp_s < 9.2e9, "Aeva file name: stamp ", stamp_s,
+                 " s is not a time after 1970 that a 19-digit nanosecond name can hold");
+  std::string digits = std::to_string(static_cast<unsigned long long>(std::llround(stamp_s * 1e9)));
+  return std::string(19 - std::min<std::size_t>(19, digits.size()), '0') + digits + ".bin";
+}
+
 core::PointList aeva_points(const AevaRecords& r, bool negate_velocity) {
   core::PointList points;
   points.x_m = r.x_m;

@@ -60,12 +60,33 @@ core::PointList points_from_pcd(const PcdCloud& cloud, const std::string& source
   return points;
 }
 
+namespace {
+// Records the frame the file implies and applies the option's override.
+void set_velocity_frame(InputFrame& out, core::VelocityFrame implied, std::string source,
+                        const InputOptions& options) {
+  out.file_velocity_frame = implied;
+  out.velocity_frame_source = std::move(source);
+  out.frame.scan.velocity_frame = options.velocity_frame.value_or(implied);
+}
+
+std::string comment_source(const PcdCloud& cloud) {
+  for (const auto& c : cloud.comments) {
+    if (c.rfind("fmcw_velocity_frame", 0) == 0) return "the file's fmcw_velocity_frame comment";
+  }
+  return "the default";
+}
+}  // namespace
+
 InputFrame read_input_frame(const std::string& path, const InputOptions& options) {
   InputFrame out;
   if (options.format == InputFormat::kPcd) {
-    out.frame = read_frame(path);
+    const PcdCloud cloud = read_pcd(path);
+    out.frame = frame_from_pcd(cloud, path);
+    set_velocity_frame(out, out.frame.scan.velocity_frame, comment_source(cloud), options);
     return out;
   }
+  core::VelocityFrame implied = core::VelocityFrame::kEgoCompensated;
+  std::string source = "the Aeva datasets' convention";
   core::GridProjection projection;
   if (options.format == InputFormat::kAeva) {
     AevaScanParams params;
@@ -78,6 +99,8 @@ InputFrame read_input_frame(const std::string& path, const InputOptions& options
     // A stamp comment is checked as the organized reader checks it, so that no reader takes a
     // file the other refuses. The projected scan keeps stamp 0, as it always has.
     stamp_from_comments(cloud, path);
+    implied = velocity_frame_from_comments(cloud, path);
+    source = comment_source(cloud);
     core::PointList points = points_from_pcd(cloud, path);
     if (options.negate_velocity) {
       for (float& v : points.radial_velocity_mps) v = -v;
@@ -90,6 +113,7 @@ InputFrame read_input_frame(const std::string& path, const InputOptions& options
     }
   }
   out.frame.scan = std::move(projection.scan);
+  set_velocity_frame(out, implied, source, options);
   out.projected = true;
   out.stats = projection.stats;
   return out;

@@ -402,9 +402,44 @@ double stamp_from_comments(const PcdCloud& cloud, const std::string& source) {
   return stamp_s;
 }
 
+core::VelocityFrame velocity_frame_from_comments(const PcdCloud& cloud, const std::string& source) {
+  core::VelocityFrame frame = core::VelocityFrame::kSensor;
+  for (const auto& c : cloud.comments) {
+    const auto w = split_words(c);
+    if (w.empty() || w[0] != "fmcw_velocity_frame") continue;
+    FMCW_CHECK_FILE(w.size() == 2 && (w[1] == "sensor" || w[1] == "ego_compensated"), source, ": comment '# ", c,
+                    "': expected fmcw_velocity_frame sensor or fmcw_velocity_frame ego_compensated");
+    frame = core::velocity_frame_from_string(w[1]);
+  }
+  return frame;
+}
+
+namespace {
+// line_index and time_offset_ns, as Aeva sensors report them; time_offset_ns fills the time
+// offsets when the frame has no t.
+void read_line_fields(const PcdCloud& cloud, const std::string& source, core::Scan& scan) {
+  if (const PcdField* line = cloud.find("line_index")) {
+    scan.line_index.resize(scan.size());
+    for (std::size_t i = 0; i < scan.size(); ++i) {
+      FMCW_CHECK_FILE(line->values[i] >= 0 && line->values[i] <= 65535.0, source, ": point ", i, " has line_index ",
+                      line->values[i], " out of range (0..65535)");
+      scan.line_index[i] = static_cast<std::uint16_t>(line->values[i]);
+    }
+  }
+  const PcdField* ns = cloud.find("time_offset_ns");
+  if (ns == nullptr || cloud.find("t") != nullptr) return;
+  scan.time_offset_s.resize(scan.size());
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    FMCW_CHECK_FILE(std::isfinite(ns->values[i]), source, ": point ", i, " has a NaN or Inf time_offset_ns");
+    scan.time_offset_s[i] = static_cast<float>(ns->values[i] * 1e-9);
+  }
+}
+}  // namespace
+
 const std::vector<std::string>& known_frame_fields() {
-  static const std::vector<std::string> names = {"x", "y", "z", "range", "v", "intensity", "t", "gt_range", "gt_v",
-                                                 "gt_vx", "gt_vy", "gt_vz", "instance", "moving", "class", "label"};
+  static const std::vector<std::string> names = {"x", "y", "z", "range", "v", "intensity", "t", "line_index",
+                                                 "time_offset_ns", "gt_range", "gt_v", "gt_vx", "gt_vy", "gt_vz",
+                                                 "instance", "moving", "class", "label"};
   return names;
 }
 
@@ -431,6 +466,7 @@ core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source) {
   scan = core::Scan::make_empty(cloud.height, cloud.width);
   scan.heads.clear();
   scan.stamp_s = stamp_from_comments(cloud, source);
+  scan.velocity_frame = velocity_frame_from_comments(cloud, source);
   for (const auto& c : cloud.comments) {
     const auto w = split_words(c);
     if (!w.empty() && w[0] == "fmcw_head") {
@@ -481,6 +517,7 @@ core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source) {
       scan.time_offset_s[i] = static_cast<float>(t->values[i]);
     }
   }
+  read_line_fields(cloud, source, scan);
   const char* gt_names[] = {"gt_range", "gt_v", "gt_vx", "gt_vy", "gt_vz", "instance", "moving"};
   int gt_present = 0;
   for (const char* g : gt_names) gt_present += cloud.find(g) ? 1 : 0;
@@ -568,6 +605,10 @@ PcdCloud pcd_from_frame(const core::Frame& frame, bool with_truth) {
   cloud.width = scan.cols;
   cloud.height = scan.rows;
   cloud.comments.push_back("fmcw_stamp " + fmt_double(scan.stamp_s));
+  // Only a compensated scan says so: sensor-frame files keep the bytes they always had.
+  if (scan.velocity_frame != core::VelocityFrame::kSensor) {
+    cloud.comments.push_back(std::string("fmcw_velocity_frame ") + core::to_string(scan.velocity_frame));
+  }
   for (const auto& head : scan.heads) {
     FMCW_CHECK_ARG(!head.name.empty() && head.name.find_first_of(" \t\r\n") == std::string::npos,
                    "write PCD: head name '", head.name, "' must be one word");
@@ -592,6 +633,17 @@ PcdCloud pcd_from_frame(const core::Frame& frame, bool with_truth) {
   add_float("v", scan.radial_velocity_mps, true);
   add_float("intensity", scan.intensity, true);
   if (!scan.time_offset_s.empty()) add_float("t", scan.time_offset_s, false);
+  if (!scan.line_index.empty()) {
+    // As the Aeva sensors report them: the scan line and the time after the stamp [ns].
+    PcdField line{"line_index", 'U', 2, std::vector<double>(n)};
+    PcdField ns{"time_offset_ns", 'I', 4, std::vector<double>(n, 0.0)};
+    for (std::size_t i = 0; i < n; ++i) {
+      line.values[i] = scan.line_index[i];
+      if (!scan.time_offset_s.empty()) ns.values[i] = std::round(static_cast<double>(scan.time_offset_s[i]) * 1e9);
+    }
+    cloud.fields.push_back(std::move(line));
+    cloud.fields.push_back(std::move(ns));
+  }
   if (with_truth) {
     FMCW_CHECK_ARG(frame.truth.has_value(), "write PCD: ground truth requested but the frame has none");
     const core::PixelGroundTruth& gt = *frame.truth;

@@ -16,13 +16,20 @@ struct TrueReturn {
   float intensity;
   std::uint32_t instance;
   std::uint16_t semantic_class;
+  double reflectance = 0.0;     // reflectivity x |cos incidence|, for the SNR model
+  double compensation = 0.0;    // e . V_origin [m/s] added in the ego-compensated frame, else 0
 };
 
 // The loops below copy what they read into locals before calling this: a byte store (valid,
 // moving) may alias anything reached through a reference, which would force reloads.
-inline void report(const PixelArrays& out, const MeasurementModel& measurement, const Eigen::Vector3f* directions_rig,
+// Returns false when the measurement model drops the return (the pixel is then not written).
+inline bool report(const PixelArrays& out, const MeasurementModel& measurement, const Eigen::Vector3f* directions_rig,
                    const Eigen::Vector3d& mount_rig, std::size_t i, const TrueReturn& t, const double* normals) {
-  const MeasurementModel::Reading m = measurement.measure(t.range_m, t.doppler_mps, normals);
+  // Ego-compensated: v + e . V_origin, noise and truth alike, so that the truth is in the frame
+  // of the scan it describes.
+  const double doppler = t.doppler_mps + t.compensation;
+  MeasurementModel::Reading m{};
+  if (!measurement.measure_return(t.range_m, doppler, t.reflectance, 1.0, normals, m)) return false;
   // Reported along the beam's axis, in the rig frame of the beam's own instant (the motion skew
   // of a real sweep): T_rig_world (o + r e) = mount + r e_rig.
   const Eigen::Vector3d p_rig = mount_rig + m.range_m * directions_rig[i].cast<double>();
@@ -34,13 +41,14 @@ inline void report(const PixelArrays& out, const MeasurementModel& measurement, 
   out.intensity[i] = t.intensity;
   out.valid[i] = 1;
   out.gt_range[i] = static_cast<float>(t.range_m);
-  out.gt_doppler[i] = static_cast<float>(t.doppler_mps);
+  out.gt_doppler[i] = static_cast<float>(doppler);
   out.gt_vx[i] = static_cast<float>(t.velocity_rig_mps.x());
   out.gt_vy[i] = static_cast<float>(t.velocity_rig_mps.y());
   out.gt_vz[i] = static_cast<float>(t.velocity_rig_mps.z());
   out.gt_instance[i] = t.instance;
   out.gt_moving[i] = t.moving ? 1 : 0;
   out.gt_class[i] = t.semantic_class;
+  return true;
 }
 
 }  // namespace
@@ -71,6 +79,8 @@ const double* shade_beams(const ShadingContext& ctx, const HeadState& head, std:
   const Eigen::Matrix3d R_world_rig = ctx.R_world_rig;
   const double moving_threshold_sq = ctx.moving_threshold_sq;
   const HeadState h = head;
+  const bool compensate = ctx.measurement.params().velocity_frame == core::VelocityFrame::kEgoCompensated;
+  const std::size_t per_return = static_cast<std::size_t>(ctx.measurement.normals_per_return());
   for (int c = c0; c < c1; ++c) {
     const std::size_t i = row + static_cast<std::size_t>(c);
     const RayHit& ray = hits[c];
@@ -105,8 +115,13 @@ const double* shade_beams(const ShadingContext& ctx, const HeadState& head, std:
       ++actor_pixels[part.actor_index];
     }
     t.intensity = return_intensity(reflectivity, cos_incidence, t.range_m);
-    report(out, ctx.measurement, directions_rig, h.mount_rig, i, t, normals);
-    normals += 2;
+    t.reflectance = reflectivity * std::abs(cos_incidence);
+    t.compensation = compensate ? e.dot(h.origin_velocity_world) : 0.0;
+    if (!report(out, ctx.measurement, directions_rig, h.mount_rig, i, t, normals)) {
+      out.set_no_return(i);  // too weak to detect (SNR model)
+      if (ray.slot != 0) --actor_pixels[scene.slot(ray.slot).actor_index];
+    }
+    normals += per_return;
   }
   return normals;
 }
@@ -133,20 +148,30 @@ void shade_sub_ray_beams(const ShadingContext& ctx, const SubRayShading& sub_ray
       ctx.out.set_no_return(i);
       continue;
     }
+    // The merged energy is reflectivity x |cos| x the intensity falloff (return_intensity):
+    // undone for the SNR model, which applies its own 1 / R^2.
+    const double falloff = return_intensity(1.0f, 1.0, merged.range_m);
+    const bool compensate = ctx.measurement.params().velocity_frame == core::VelocityFrame::kEgoCompensated;
     const TrueReturn t{merged.range_m,
                        merged.doppler_mps,
                        ctx.R_world_rig.transpose() * merged.velocity_world_mps,
                        merged.velocity_world_mps.squaredNorm() > ctx.moving_threshold_sq,
                        static_cast<float>(merged.energy),
                        merged.instance,
-                       merged.semantic_class};
+                       merged.semantic_class,
+                       merged.energy / falloff,
+                       compensate ? ctx.directions_world[i].cast<double>().dot(head.origin_velocity_world) : 0.0};
+    double normals[3] = {rng.normal(), rng.normal(), 0.0};
+    if (ctx.measurement.normals_per_return() == 3) normals[2] = rng.normal();
+    if (!report(ctx.out, ctx.measurement, ctx.directions_rig, head.mount_rig, i, t, normals)) {
+      ctx.out.set_no_return(i);  // too weak to detect (SNR model)
+      continue;
+    }
     if (t.instance != 0) {
       const auto it = std::lower_bound(sub_rays.actor_ids.begin(), sub_rays.actor_ids.end(),
                                        std::make_pair(t.instance, std::size_t{0}));
       ++actor_pixels[it->second];
     }
-    const double normals[2] = {rng.normal(), rng.normal()};
-    report(ctx.out, ctx.measurement, ctx.directions_rig, head.mount_rig, i, t, normals);
   }
 }
 

@@ -227,6 +227,17 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
   if (!frame.truth || frame.truth->range_m.size() != n) frame.truth = core::PixelGroundTruth::make_empty(n);
   frame.scan.heads = head_infos_;
   frame.scan.stamp_s = t_s;
+  frame.scan.velocity_frame = params_.measurement.velocity_frame;
+  if (params_.rig.scan_lines) {
+    // Every head fires its rows together: a pixel's scan line is its row.
+    frame.scan.line_index.resize(n);
+    for (int r = 0; r < rows; ++r) {
+      std::fill_n(frame.scan.line_index.begin() + static_cast<std::ptrdiff_t>(frame.scan.index(r, 0)), cols,
+                  static_cast<std::uint16_t>(r));
+    }
+  } else {
+    frame.scan.line_index.clear();
+  }
   if (params_.motion_distortion) {
     frame.scan.time_offset_s.resize(n);
   } else {
@@ -362,7 +373,7 @@ void LidarSimulator::simulate(std::uint64_t frame_index, double t_s, core::Frame
             for (const auto& [c0, c1] : span) {
               for (int c = c0; c < c1; ++c) returns += std::isfinite(hits[c].distance_m) ? 1 : 0;
             }
-            scratch.normals.resize(2 * returns);
+            scratch.normals.resize(static_cast<std::size_t>(measurement_.normals_per_return()) * returns);
             rng.normals(scratch.normals.data(), scratch.normals.size());
             const double* normals = scratch.normals.data();
             for (std::size_t h = 0; h < span.size(); ++h) {

@@ -17,16 +17,65 @@ void MeasurementParams::validate() const {
                  "measurement: wavelength_m, bandwidth_hz and chirp_period_s must be > 0");
   FMCW_CHECK_ARG(std::isfinite(beat_frequency_sigma_hz) && beat_frequency_sigma_hz >= 0.0,
                  "measurement: beat_frequency_sigma_hz must be >= 0, got ", beat_frequency_sigma_hz);
+  FMCW_CHECK_ARG(std::isfinite(snr.reference_db) && std::abs(snr.reference_db) <= 200.0,
+                 "measurement: snr.reference_db must be in [-200, 200] dB, got ", snr.reference_db);
+  FMCW_CHECK_ARG(std::isfinite(snr.sigma_reference_db) && std::abs(snr.sigma_reference_db) <= 200.0,
+                 "measurement: snr.sigma_reference_db must be in [-200, 200] dB, got ", snr.sigma_reference_db);
+  FMCW_CHECK_ARG(std::isfinite(snr.detection_threshold_db) && std::abs(snr.detection_threshold_db) <= 200.0,
+                 "measurement: snr.detection_threshold_db must be in [-200, 200] dB, got ", snr.detection_threshold_db);
+  FMCW_CHECK_ARG(std::isfinite(snr.reference_range_m) && snr.reference_range_m > 0.0,
+                 "measurement: snr.reference_range_m must be > 0, got ", snr.reference_range_m);
+  FMCW_CHECK_ARG(std::isfinite(snr.reference_reflectivity) && snr.reference_reflectivity > 0.0,
+                 "measurement: snr.reference_reflectivity must be > 0, got ", snr.reference_reflectivity);
+  FMCW_CHECK_ARG(std::isfinite(snr.detection_width_db) && snr.detection_width_db > 0.0,
+                 "measurement: snr.detection_width_db must be > 0, got ", snr.detection_width_db);
+  FMCW_CHECK_ARG(std::isfinite(snr.velocity_sigma_floor_mps) && snr.velocity_sigma_floor_mps >= 0.0 &&
+                     snr.velocity_sigma_floor_mps <= 10.0,
+                 "measurement: snr.velocity_sigma_floor_mps must be in [0, 10] m/s, got ", snr.velocity_sigma_floor_mps);
+  FMCW_CHECK_ARG(std::isfinite(snr.range_sigma_floor_m) && snr.range_sigma_floor_m >= 0.0 && snr.range_sigma_floor_m <= 10.0,
+                 "measurement: snr.range_sigma_floor_m must be in [0, 10] m, got ", snr.range_sigma_floor_m);
 }
 
 std::string to_string(MeasurementParams::Model model) {
-  return model == MeasurementParams::Model::kGaussian ? "gaussian" : "beat_frequency";
+  switch (model) {
+    case MeasurementParams::Model::kGaussian:
+      return "gaussian";
+    case MeasurementParams::Model::kBeatFrequency:
+      return "beat_frequency";
+    case MeasurementParams::Model::kSnr:
+      return "snr";
+  }
+  return "unknown";
 }
 
 MeasurementParams::Model measurement_model_from_string(const std::string& name) {
   if (name == "gaussian") return MeasurementParams::Model::kGaussian;
   if (name == "beat_frequency") return MeasurementParams::Model::kBeatFrequency;
-  throw core::InputError("measurement: unknown model '" + name + "' (known: gaussian, beat_frequency)");
+  if (name == "snr") return MeasurementParams::Model::kSnr;
+  throw core::InputError("measurement: unknown model '" + name + "' (known: gaussian, beat_frequency, snr)");
+}
+
+double MeasurementModel::snr_linear(double range_m, double reflectivity, double cos_incidence) const {
+  const MeasurementParams::Snr& p = params_.snr;
+  const double r = std::max(range_m, 1e-3);
+  const double ratio = p.reference_range_m / r;
+  return std::pow(10.0, p.reference_db / 10.0) * (std::max(0.0, reflectivity) / p.reference_reflectivity) *
+         std::abs(cos_incidence) * ratio * ratio;
+}
+
+double MeasurementModel::detection_probability(double snr) const {
+  if (!(snr > 0.0)) return 0.0;
+  const double snr_db = 10.0 * std::log10(snr);
+  return 1.0 / (1.0 + std::exp(-(snr_db - params_.snr.detection_threshold_db) / params_.snr.detection_width_db));
+}
+
+MeasurementModel::Sigmas MeasurementModel::sigmas(double snr) const {
+  const MeasurementParams::Snr& p = params_.snr;
+  // sigma ~ 1 / sqrt(SNR) (Cramer-Rao bound of a frequency estimate), from Table I's values at
+  // sigma_reference_db.
+  const double scale = std::sqrt(std::pow(10.0, p.sigma_reference_db / 10.0) / std::max(snr, 1e-30));
+  return {std::max(p.range_sigma_floor_m, params_.range_sigma_m * scale),
+          std::max(p.velocity_sigma_floor_mps, params_.velocity_sigma_mps * scale)};
 }
 
 MeasurementModel::MeasurementModel(const MeasurementParams& params) : params_(params) { params_.validate(); }

@@ -134,6 +134,7 @@ core::RigModel read_rig(const YamlValue& value, MemoryBudget* budget = nullptr) 
     rig.heads.push_back(read_head(items[k], k));
     pixels += static_cast<double>(rig.heads.back().rows()) * static_cast<double>(rig.heads.back().cols());
   }
+  rig.scan_lines = m.get("scan_lines", false);
   m.finish();
   if (budget) {
     budget->add(pixels * kBytesPerPixel, heads.where(),
@@ -145,6 +146,19 @@ core::RigModel read_rig(const YamlValue& value, MemoryBudget* budget = nullptr) 
     core::rethrow_as_file_error(value.where() + ": ");
   }
   return rig;
+}
+
+void read_snr(const YamlValue& value, MeasurementParams::Snr& p) {
+  YamlMap m(value);
+  p.reference_db = m.get("reference_db", p.reference_db);
+  p.reference_range_m = m.get("reference_range_m", p.reference_range_m);
+  p.reference_reflectivity = m.get("reference_reflectivity", p.reference_reflectivity);
+  p.sigma_reference_db = m.get("sigma_reference_db", p.sigma_reference_db);
+  p.detection_threshold_db = m.get("detection_threshold_db", p.detection_threshold_db);
+  p.detection_width_db = m.get("detection_width_db", p.detection_width_db);
+  p.velocity_sigma_floor_mps = m.get("velocity_sigma_floor_mps", p.velocity_sigma_floor_mps);
+  p.range_sigma_floor_m = m.get("range_sigma_floor_m", p.range_sigma_floor_m);
+  m.finish();
 }
 
 MeasurementParams read_measurement(const YamlValue& value) {
@@ -162,6 +176,12 @@ MeasurementParams read_measurement(const YamlValue& value) {
   p.bandwidth_hz = m.get("bandwidth_hz", p.bandwidth_hz);
   p.chirp_period_s = m.get("chirp_period_s", p.chirp_period_s);
   p.beat_frequency_sigma_hz = m.get("beat_frequency_sigma_hz", p.beat_frequency_sigma_hz);
+  const std::string frame = m.get("velocity_frame", std::string("sensor"));
+  if (frame != "sensor" && frame != "ego_compensated") {
+    m.at("velocity_frame").fail("velocity_frame must be sensor or ego_compensated, got '" + frame + "'");
+  }
+  p.velocity_frame = core::velocity_frame_from_string(frame);
+  if (m.has("snr")) read_snr(m.at("snr"), p.snr);
   m.finish();
   try {
     p.validate();
@@ -672,14 +692,31 @@ std::string scenario_to_yaml(const Scenario& s) {
         << "max_range_m" << YAML::Value << h.max_range_m << YAML::Key << "rate_hz" << YAML::Value << h.rate_hz
         << YAML::EndMap;
   }
-  out << YAML::EndSeq << YAML::EndMap;
+  out << YAML::EndSeq;
+  if (s.rig.scan_lines) out << YAML::Key << "scan_lines" << YAML::Value << true;  // only when set: old bytes kept
+  out << YAML::EndMap;
   const MeasurementParams& mp = s.measurement;
   out << YAML::Key << "measurement" << YAML::Value << YAML::BeginMap << YAML::Key << "model" << YAML::Value
       << to_string(mp.model) << YAML::Key << "range_sigma_m" << YAML::Value << mp.range_sigma_m << YAML::Key
       << "velocity_sigma_mps" << YAML::Value << mp.velocity_sigma_mps << YAML::Key << "wavelength_m" << YAML::Value
       << mp.wavelength_m << YAML::Key << "bandwidth_hz" << YAML::Value << mp.bandwidth_hz << YAML::Key
       << "chirp_period_s" << YAML::Value << mp.chirp_period_s << YAML::Key << "beat_frequency_sigma_hz" << YAML::Value
-      << mp.beat_frequency_sigma_hz << YAML::EndMap;
+      << mp.beat_frequency_sigma_hz;
+  // Written only when not the default, so that datasets of the paper's scenarios keep their bytes.
+  if (mp.velocity_frame != core::VelocityFrame::kSensor) {
+    out << YAML::Key << "velocity_frame" << YAML::Value << core::to_string(mp.velocity_frame);
+  }
+  if (mp.model == MeasurementParams::Model::kSnr) {
+    const MeasurementParams::Snr& q = mp.snr;
+    out << YAML::Key << "snr" << YAML::Value << YAML::BeginMap << YAML::Key << "reference_db" << YAML::Value
+        << q.reference_db << YAML::Key << "reference_range_m" << YAML::Value << q.reference_range_m << YAML::Key
+        << "reference_reflectivity" << YAML::Value << q.reference_reflectivity << YAML::Key << "sigma_reference_db"
+        << YAML::Value << q.sigma_reference_db << YAML::Key << "detection_threshold_db" << YAML::Value
+        << q.detection_threshold_db << YAML::Key << "detection_width_db" << YAML::Value << q.detection_width_db
+        << YAML::Key << "velocity_sigma_floor_mps" << YAML::Value << q.velocity_sigma_floor_mps << YAML::Key
+        << "range_sigma_floor_m" << YAML::Value << q.range_sigma_floor_m << YAML::EndMap;
+  }
+  out << YAML::EndMap;
   out << YAML::Key << "simulation" << YAML::Value << YAML::BeginMap << YAML::Key << "motion_distortion" << YAML::Value
       << s.motion_distortion << YAML::Key << "time_slices" << YAML::Value << s.time_slices << YAML::Key << "min_range_m"
       << YAML::Value << s.min_range_m << YAML::Key << "beam_divergence" << YAML::Value << YAML::BeginMap << YAML::Key

@@ -11,6 +11,7 @@
 #include <numeric>
 #include <random>
 
+#include "fmcw/core/ego_motion.hpp"
 #include "fmcw/core/synthetic_scan.hpp"
 #include "fmcw/io/aeva.hpp"
 #include "fmcw/io/pcd.hpp"
@@ -89,8 +90,9 @@ TEST_F(CliFormats, ProcessRunsTheCoreOnAnAevaScan) {
   const fmcw::core::Frame frame = street();
   const fmcw::io::AevaRecords records = to_aeva(frame.scan);
   fmcw::io::write_aeva(path("1690000000000000000.bin"), records);
-  const CliResult r = run_cli("process --format aeva --aeva-lines 150 " + path("1690000000000000000.bin") + " -o " +
-                              path("out") + " --method robust");
+  // These records hold the raw Doppler: the Aeva default (ego-compensated) is overridden.
+  const CliResult r = run_cli("process --format aeva --aeva-lines 150 --velocity-frame raw " +
+                              path("1690000000000000000.bin") + " -o " + path("out") + " --method robust");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("placed " + std::to_string(records.size()) + " of " + std::to_string(records.size()) +
                           " points (0 collisions, 0 outside the field of view) on 150 x 600 by line and azimuth"),
@@ -104,6 +106,48 @@ TEST_F(CliFormats, ProcessRunsTheCoreOnAnAevaScan) {
   const fmcw::io::PcdCloud labelled = fmcw::io::read_pcd((dir_ / "out" / "labels" / "1690000000000000000.pcd").string());
   EXPECT_EQ(labelled.width, 600);
   EXPECT_EQ(labelled.height, 150);
+}
+
+TEST_F(CliFormats, CompensatedAevaScanTakesItsEgoVelocityFromThePoses) {
+  fmcw::core::Frame frame = street();
+  fmcw::core::compensate_ego_velocity(frame.scan, {kEgo, Eigen::Vector3d::Zero()});
+  fmcw::io::write_aeva(path("1690000000000000000.bin"), to_aeva(frame.scan));
+  const std::string scan = path("1690000000000000000.bin");
+  // Without poses: the frame assumed is said once, and the ego velocity is not measurable.
+  CliResult r = run_cli("process --format aeva --aeva-lines 150 " + scan + " -o " + path("a") + " --method robust");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("velocity frame: ego-compensated assumed, from the Aeva datasets' convention"), std::string::npos)
+      << r.output;
+  const std::vector<std::string> cells = fmcw::test::csv_row(dir_ / "a" / "ego.csv");
+  ASSERT_GE(cells.size(), 9u);
+  EXPECT_EQ(cells[6], "nan");
+  // With the poses (TUM, the rig driving at kEgo, stamps on the scan's clock).
+  std::string tum = "# t x y z qx qy qz qw\n";
+  for (int k = -2; k <= 2; ++k) {
+    const Eigen::Vector3d p = kEgo * (0.1 * k);
+    tum += std::to_string(1690000000 + 0.1 * k) + " " + std::to_string(p.x()) + " " + std::to_string(p.y()) + " 0 0 0 0 1\n";
+  }
+  r = run_cli("process --format aeva --aeva-lines 150 " + scan + " -o " + path("b") + " --method robust --poses " +
+              write("poses.tum", tum));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto [vx, vy] = ego_velocity(dir_ / "b" / "ego.csv");
+  EXPECT_NEAR(vx, kEgo.x(), 0.03);
+  EXPECT_NEAR(vy, kEgo.y(), 0.03);
+  // Bad poses: one error line naming the file, nothing written.
+  const auto refused = [&](const std::string& text, int code, const std::string& names) {
+    const CliResult bad = run_cli("process --format aeva --aeva-lines 150 " + scan + " -o " + path("c") + " --poses " +
+                                  write("bad.tum", text));
+    EXPECT_EQ(bad.code, code) << bad.output;
+    const std::vector<std::string> errors = fmcw::test::error_lines(bad.output);
+    ASSERT_EQ(errors.size(), 1u) << bad.output;
+    EXPECT_NE(errors[0].find(names), std::string::npos) << errors[0];
+    EXPECT_FALSE(fs::exists(dir_ / "c" / "ego.csv"));
+  };
+  refused("1690000000.1 0 0 0 0 0 0 1\n1689999999.9 0 0 0 0 0 0 1\n", fmcw::test::kExitFile, "stamps must increase");
+  refused("1689999999.9 0 0 0 0 0 0 1\n1690000000.1 nan 0 0 0 0 0 1\n", fmcw::test::kExitFile, "bad.tum:2");
+  refused("1689999999.9 0 0 0 0 0 0 1\n1690000000.1 0 0 0 0.5 0 0 1\n", fmcw::test::kExitFile, "unit quaternion");
+  refused("1689999999.8 0 0 0 0 0 0 1\n1689999999.9 0 0 0 0 0 0 1\n", fmcw::test::kExitUsage, "do not cover");
+  refused("1689999999.9 0 0 0 0 0 1\n", fmcw::test::kExitFile, "7 values, expected 8");
 }
 
 TEST_F(CliFormats, ProcessProjectsAnUnorganizedCloud) {

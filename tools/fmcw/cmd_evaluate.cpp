@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "fmcw/eval/aevascenes_source.hpp"
 #include "fmcw/eval/aggregate_report.hpp"
 #include "fmcw/eval/evaluation_report.hpp"
 #include "progress.hpp"
@@ -69,7 +70,8 @@ Action add_evaluate_command(CLI::App& app) {
   auto opt = std::make_shared<EvaluateOptions>();
   CLI::App* cmd = app.add_subcommand("evaluate", "Evaluate the motion methods on a simulated dataset against its ground truth");
   cmd->add_option("dataset", opt->dataset,
-                  "Dataset folder written by `fmcw simulate`, or a folder of such datasets (one aggregate report)")
+                  "Dataset folder written by `fmcw simulate`, a folder of such datasets (one aggregate report), or "
+                  "an AevaScenes sequence folder (SEQ/sequence.json)")
       ->required();
   cmd->add_option("-o,--output", opt->output, "Report folder")->required();
   cmd->add_option("--methods", opt->methods, "Methods to run, comma-separated (default: all; paper is always included)")
@@ -86,6 +88,11 @@ Action add_evaluate_command(CLI::App& app) {
     params.num_threads = opt->threads;
     params.validate();
     std::error_code ec;
+    if (eval::is_aevascenes_sequence(opt->dataset)) {
+      eval::AevaScenesSource source(opt->dataset, opt->frames);
+      say_notices(source.info().notices);
+      return evaluate_and_report(source, params, opt->output, opt->no_figures);
+    }
     if (std::filesystem::is_directory(opt->dataset, ec) && !eval::is_dataset_folder(opt->dataset)) {
       return evaluate_folder_and_report(opt->dataset, opt->frames, params, opt->output, opt->no_figures);
     }

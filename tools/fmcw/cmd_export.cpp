@@ -6,12 +6,14 @@
 
 #include "commands.hpp"
 #include "fmcw/core/errors.hpp"
+#include "fmcw/io/aeva.hpp"
 #include "fmcw/io/atomic_file.hpp"
 #include "fmcw/io/openpcdet.hpp"
 #include "fmcw/io/output_folder.hpp"
 #include "fmcw/io/ply.hpp"
 #include "fmcw/io/semantic_kitti.hpp"
 #include "fmcw/io/truth_tables.hpp"
+#include "fmcw/io/tum_poses.hpp"
 #include "input_flags.hpp"
 
 namespace fmcw::cli {
@@ -139,6 +141,30 @@ io::PcdCloud read_cloud(const std::string& path, const io::InputOptions& input) 
   return io::pcd_from_frame(in.frame, false);
 }
 
+// --to tum: the dataset's ego poses (ego.csv) as DIR/poses.tum, what `fmcw process --poses`
+// takes to undo an ego-compensated dataset's compensation.
+int export_poses(const ExportOptions& opt, const DatasetTables& tables, const fs::path& out_dir, ExportOutput& output) {
+  if (tables.frames.empty()) {
+    throw core::InputError(opt.input.path + ": --to tum needs a dataset written by fmcw simulate (ego.csv beside frames/)");
+  }
+  core::PoseSeries poses;
+  for (const core::FrameTruth& t : tables.frames) {
+    poses.stamp_s.push_back(t.stamp_s);
+    poses.position_m.push_back(t.ego.T_world_rig.translation());
+    poses.orientation.emplace_back(t.ego.T_world_rig.linear());
+  }
+  const fs::path file = out_dir / "poses.tum";
+  try {
+    io::write_tum_poses(file.string(), poses);
+  } catch (const std::invalid_argument& e) {
+    throw core::FileError(opt.input.path + "/ego.csv: " + e.what());
+  }
+  output.wrote(file);
+  output.complete();
+  std::cerr << "wrote " << file.string() << " (" << poses.size() << " poses)\n";
+  return 0;
+}
+
 int run_export(const ExportOptions& opt) {
   const io::InputOptions input = opt.input.resolve();
   const io::LabelSource label_source = io::parse_label_source(opt.labels);
@@ -152,6 +178,7 @@ int run_export(const ExportOptions& opt) {
   ExportOutput output;
   output.folder(out_dir);
   const io::FolderLock lock(opt.output);
+  if (opt.to == "tum") return export_poses(opt, tables, out_dir, output);
   if (opt.to == "kitti") {
     output.folder(out_dir / "velodyne");
     output.folder(out_dir / "labels");
@@ -167,7 +194,19 @@ int run_export(const ExportOptions& opt) {
     const io::PcdCloud cloud = read_cloud(file, input);
     std::string written;
     std::size_t points = 0;
-    if (opt.to == "ply") {
+    if (opt.to == "aeva") {
+      const core::Frame frame = io::frame_from_pcd(cloud, file);
+      io::AevaRecords records;
+      try {
+        records = io::aeva_records_from_scan(frame.scan);
+      } catch (const std::invalid_argument& e) {
+        throw core::InputError(file + ": --to aeva: " + e.what());
+      }
+      written = (out_dir / io::aeva_file_name(frame.scan.stamp_s)).string();
+      io::write_aeva(written, records);
+      output.wrote(written);
+      points = records.size();
+    } else if (opt.to == "ply") {
       std::vector<io::Rgb> colors;
       if (opt.color == "doppler") colors = io::doppler_colors(cloud, opt.doppler_scale_mps, file);
       if (opt.color == "label") colors = io::label_colors(io::point_labels(cloud, label_source, classes[k], file));
@@ -227,10 +266,12 @@ Action add_export_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("export", "Write frames as PLY, SemanticKITTI .bin/.label, PCD or OpenPCDet's layout");
   cmd->add_option("-o,--output", opt->output, "Output folder")->required();
   cmd->add_option("--to", opt->to,
-                  "ply, kitti (velodyne/NAME.bin + labels/NAME.label), pcd, or openpcdet (points/NAME.npy + "
-                  "labels/NAME.txt + ImageSets/train.txt + meta.json; datasets only)")
+                  "ply, kitti (velodyne/NAME.bin + labels/NAME.label), pcd, openpcdet (points/NAME.npy + "
+                  "labels/NAME.txt + ImageSets/train.txt + meta.json; datasets only), or aeva (STAMP_NS.bin, "
+                  "Aeva Aeries II records in the head's frame; one-head rigs), or tum (poses.tum: the dataset's ego "
+                  "poses for --poses)")
       ->required()
-      ->check(CLI::IsMember({"ply", "kitti", "pcd", "openpcdet"}));
+      ->check(CLI::IsMember({"ply", "kitti", "pcd", "openpcdet", "aeva", "tum"}));
   cmd->add_option("--color", opt->color, "ply: colour by doppler, label (instances), class (semantic classes), or none")
       ->check(CLI::IsMember({"doppler", "label", "class", "none"}));
   cmd->add_option("--labels", opt->labels, "Labels from: auto (estimate if the cloud has 'label', else truth), estimate, truth")

@@ -6,11 +6,14 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "fmcw/core/ego_motion.hpp"
+#include "fmcw/core/errors.hpp"
 #include "fmcw/core/motion_pipeline.hpp"
 #include "fmcw/io/atomic_file.hpp"
 #include "fmcw/io/frame_layout.hpp"
 #include "fmcw/io/output_folder.hpp"
 #include "fmcw/io/results_writer.hpp"
+#include "fmcw/io/tum_poses.hpp"
 #include "input_flags.hpp"
 
 namespace fmcw::cli {
@@ -24,17 +27,48 @@ struct ProcessOptions {
   std::uint64_t seed = 0;
   int threads = 0;
   bool no_clouds = false;
+  std::string poses;  ///< TUM trajectory to undo the ego compensation with
   InputFlags input;
 };
+
+// Brings an ego-compensated scan back to the sensor frame with the poses' motion at its stamp,
+// so that the ego velocity is measured; says once on stderr what was done or left undone.
+void apply_poses(io::InputFrame& in, const std::optional<core::PoseSeries>& poses, const std::string& file,
+                 bool first) {
+  core::Scan& scan = in.frame.scan;
+  if (scan.velocity_frame == core::VelocityFrame::kSensor) {
+    if (poses && first) std::cerr << "--poses ignored: the frames hold raw (sensor-frame) velocities\n";
+    return;
+  }
+  if (!poses) {
+    if (first) {
+      std::cerr << "ego-compensated frames without --poses: the ego velocity is not measurable and is reported as "
+                   "nan; objects and labels are estimated directly\n";
+    }
+    return;
+  }
+  try {
+    core::uncompensate_ego_velocity(scan, poses->ego_motion_at(scan.stamp_s));
+  } catch (const std::invalid_argument& e) {
+    throw core::InputError(file + ": --poses: " + e.what());
+  }
+}
 
 // Runs the pipeline on every file, writing each frame's labelled cloud (recorded in `written`)
 // and, once all are done, the tables.
 void process_frames(const ProcessOptions& opt, const io::InputOptions& input, const std::vector<std::string>& files,
                     core::MotionPipeline& pipeline, const fs::path& label_dir, std::vector<fs::path>& written) {
+  const std::optional<core::PoseSeries> poses =
+      opt.poses.empty() ? std::nullopt : std::optional<core::PoseSeries>(io::read_tum_poses(opt.poses));
   io::ResultsWriter writer(opt.output);
   io::FrameLayoutCheck layout;
   for (std::size_t k = 0; k < files.size(); ++k) {
-    const io::InputFrame in = io::read_input_frame(files[k], input);
+    io::InputFrame in = io::read_input_frame(files[k], input);
+    if (k == 0) {
+      const std::string note = velocity_frame_note(in, opt.input);
+      if (!note.empty()) std::cerr << note << "\n";
+    }
+    apply_poses(in, poses, files[k], k == 0);
     const core::Frame& frame = in.frame;
     // Organized frames bring their own shape and heads; a projected frame's come from the grid
     // options (and, for Aeva scans without --aeva-lines, rows from each scan's line indices).
@@ -99,6 +133,9 @@ Action add_process_command(CLI::App& app) {
   cmd->add_option("--seed", opt->seed, "Seed of the random subsampling")->check(seed_validator());
   cmd->add_option("--threads", opt->threads, "Threads for per-object estimation (0 = all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_flag("--no-clouds", opt->no_clouds, "Do not write labelled clouds");
+  cmd->add_option("--poses", opt->poses,
+                  "Ego poses (TUM: t x y z qx qy qz qw, rig in the world) to undo the ego compensation of "
+                  "compensated frames, so that the ego velocity is measured");
   add_input_flags(cmd, opt->input);
   return [opt] { return run_process(*opt); };
 }

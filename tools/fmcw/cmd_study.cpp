@@ -47,6 +47,7 @@ struct BlindZoneOptions {
   std::vector<double> small_distances = {40.0};
   bool no_small = false;
   std::string mesh;
+  std::string measurement_model = "gaussian";
 };
 
 CLI::App* add_blind_zone(CLI::App* study, std::shared_ptr<BlindZoneOptions> opt) {
@@ -74,12 +75,18 @@ CLI::App* add_blind_zone(CLI::App* study, std::shared_ptr<BlindZoneOptions> opt)
   cmd->add_option("--range-sigma", p.scene.measurement.range_sigma_m, "Range noise [m] (Table I: 0.025)")
       ->capture_default_str();
   cmd->add_option("--seed", p.scene.seed, "Noise seed")->check(seed_validator())->capture_default_str();
+  cmd->add_option("--measurement-model", opt->measurement_model,
+                  "gaussian (Table I) or snr (noise and dropouts from reflectivity, incidence and range; "
+                  "docs/SIMULATOR.md)")
+      ->check(CLI::IsMember({"gaussian", "snr"}))
+      ->capture_default_str();
   cmd->add_flag("!--no-noise-free", p.noise_free_too, "Skip the noise-free evaluation of each frame");
   return cmd;
 }
 
 int run_blind_zone(BlindZoneOptions& opt) {
   eval::BlindZoneStudyParams p = opt.params;
+  p.scene.measurement.model = sim::measurement_model_from_string(opt.measurement_model);
   p.methods = opt.common.methods;
   p.scene.num_threads = opt.common.threads;
   p.targets = {{opt.mesh.empty() ? "car_box" : "mesh", Eigen::Vector3d(opt.box.at(0), opt.box.at(1), opt.box.at(2)),

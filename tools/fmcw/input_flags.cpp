@@ -9,6 +9,7 @@ io::InputOptions InputFlags::resolve() const {
   o.format = io::parse_input_format(format);
   o.aeva_layout = io::parse_aeva_layout(aeva_record);
   o.negate_velocity = negate_velocity;
+  if (!velocity_frame.empty()) o.velocity_frame = core::velocity_frame_from_string(velocity_frame);
   o.grid.fov_horizontal_deg = fov_horizontal_deg;
   o.grid.resolution_horizontal_deg = resolution_horizontal_deg;
   o.grid.fov_vertical_deg = fov_vertical_deg;
@@ -33,7 +34,28 @@ void add_input_flags(CLI::App* cmd, InputFlags& f) {
   cmd->add_option("--res-h", f.resolution_horizontal_deg, "points, aeva: azimuth bin [deg]");
   cmd->add_option("--fov-v", f.fov_vertical_deg, "points: elevation span of the grid [deg]");
   cmd->add_option("--res-v", f.resolution_vertical_deg, "points: elevation bin [deg]");
+  cmd->add_option("--velocity-frame", f.velocity_frame,
+                  "What the velocities are measured against: raw (the sensor's Doppler) or compensated "
+                  "(ego-motion compensated, the static world at 0). Default: pcd and points as the file says "
+                  "(else raw), aeva compensated (the public datasets' convention)")
+      ->check(CLI::IsMember({"raw", "compensated"}));
   cmd->add_flag("--negate-velocity", f.negate_velocity, "points, aeva: flip the Doppler sign to the project's (+ away)");
+}
+
+std::string velocity_frame_note(const io::InputFrame& in, const InputFlags& flags) {
+  const core::VelocityFrame used = in.frame.scan.velocity_frame;
+  const std::string name = used == core::VelocityFrame::kSensor ? "raw (sensor frame)" : "ego-compensated";
+  if (!flags.velocity_frame.empty()) {
+    if (used == in.file_velocity_frame) return "";
+    return "velocity frame: " + name + " from --velocity-frame, overriding " + in.velocity_frame_source + " (" +
+           core::to_string(in.file_velocity_frame) + ")";
+  }
+  if (used == core::VelocityFrame::kSensor && in.velocity_frame_source == "the default") return "";
+  std::string note = "velocity frame: " + name + " assumed, from " + in.velocity_frame_source;
+  if (used == core::VelocityFrame::kEgoCompensated) {
+    note += " (--velocity-frame raw if the velocities are the raw Doppler)";
+  }
+  return note;
 }
 
 std::string projection_summary(const io::InputFrame& frame) {

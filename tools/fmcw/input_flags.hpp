@@ -19,6 +19,7 @@ struct InputFlags {
   double fov_vertical_deg = 30.0;
   double resolution_vertical_deg = 0.2;
   bool negate_velocity = false;
+  std::string velocity_frame;  ///< "", "raw" or "compensated"
 
   /// Checks the values (std::invalid_argument naming the option) and returns them as options.
   io::InputOptions resolve() const;
@@ -26,6 +27,11 @@ struct InputFlags {
 
 /// Registers the positional input and the format and grid options.
 void add_input_flags(CLI::App* cmd, InputFlags& flags);
+
+/// The stderr line that says which velocity frame a run's frames are taken in and why, once
+/// per run (the first frame's): "" when the input says nothing worth saying (a sensor-frame
+/// dataset read as such).
+std::string velocity_frame_note(const io::InputFrame& frame, const InputFlags& flags);
 
 /// "placed P of N points (C collisions, O outside the field of view) on R x C" for a projected
 /// frame, "" otherwise.

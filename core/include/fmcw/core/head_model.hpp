@@ -42,6 +42,9 @@ struct HeadModel {
 /// Several heads side by side; their images are concatenated left to right in the given order.
 struct RigModel {
   std::vector<HeadModel> heads;
+  /// The heads report each point's scan line and time offset, as Aeva sensors do: the scans
+  /// carry Scan::line_index (a head's row) and the files line_index and time_offset_ns.
+  bool scan_lines = false;
 
   void validate() const;  ///< heads agree on rows; each head valid
   int rows() const;

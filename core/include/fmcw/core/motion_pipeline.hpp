@@ -135,6 +135,9 @@ struct MotionEstimate {
   Eigen::Vector3d ego_angular_velocity_rps = Eigen::Vector3d::Zero();  ///< robust: yaw rate in z
   bool ego_yaw_rate_estimated = false;
   bool ego_standing = false;  ///< robust: the zero-velocity test held
+  /// False on an ego-compensated scan (Scan::velocity_frame): ego and its angular velocity are
+  /// NaN then, not estimates. Undo the compensation with known ego motion to measure it.
+  bool ego_measurable = true;
   std::vector<ClusterEstimate> clusters;
   StageTiming timing;
 
@@ -170,6 +173,7 @@ class MotionPipeline {
   const MotionPipelineParams& params() const { return params_; }
 
  private:
+  MotionEstimate process_in_scan_frame(const Scan& scan, std::uint64_t frame_index);
   MotionEstimate process_robust(const Scan& scan, std::uint64_t frame_index);   // robust_method.cpp
   MotionEstimate process_regions(const Scan& scan, std::uint64_t frame_index);  // region_methods.cpp
 

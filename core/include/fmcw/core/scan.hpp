@@ -23,6 +23,21 @@ struct HeadInfo {
   Eigen::Vector3d origin_m() const { return T_rig_head.translation(); }
 };
 
+/// What a scan's radial velocity is measured against.
+enum class VelocityFrame : std::uint8_t {
+  /// The raw Doppler of Eq. 6, v = e . (V_point - V_origin): the static world reads -e . V_origin.
+  kSensor,
+  /// Ego-motion compensated ("absolute") radial velocity, v + e . V_origin = e . V_point: the
+  /// static world reads about 0. What the public Aeva datasets ship (HeLiPR, HeRCULES,
+  /// AevaScenes).
+  kEgoCompensated,
+};
+/// "sensor" or "ego_compensated".
+const char* to_string(VelocityFrame frame);
+/// "sensor" or "raw" -> kSensor; "ego_compensated" or "compensated" -> kEgoCompensated;
+/// core::InputError otherwise.
+VelocityFrame velocity_frame_from_string(const std::string& name);
+
 /// Organized scan in the rig frame (ISO: x forward, y left, z up), row-major, struct of arrays.
 /// Sign of radial velocity (Eq. 6): v = e . (V_point - V_origin), v > 0 moves away.
 struct Scan {
@@ -37,6 +52,13 @@ struct Scan {
   /// Optional: each beam's time after stamp_s [s] for sweeping sensors; empty when every beam
   /// shares the stamp.
   std::vector<float> time_offset_s;
+  /// Optional: each pixel's scan line as the sensor numbers it (Aeva's line_index); empty when
+  /// the sensor reports none.
+  std::vector<std::uint16_t> line_index;
+  /// Which velocity radial_velocity_mps holds. On kEgoCompensated scans the methods segment and
+  /// estimate objects directly; the ego velocity is not measurable from them (NaN) unless the
+  /// compensation is undone first (uncompensate_ego_velocity, ego_motion.hpp).
+  VelocityFrame velocity_frame = VelocityFrame::kSensor;
   std::vector<HeadInfo> heads;            ///< ordered by col_begin, covering [0, cols)
 
   /// Allocates rows x cols pixels, all invalid, with one head spanning every column.

@@ -59,6 +59,17 @@ AevaRecords read_aeva(const std::string& path, AevaLayout layout = AevaLayout::k
 /// Writes records in the layout above, 29 bytes each when they carry intensity, atomically.
 void write_aeva(const std::string& path, const AevaRecords& records);
 
+/// The valid pixels of a one-head scan as records in the head's own frame (the sensor frame
+/// of an Aeva file): reflectivity from intensity, line_index from Scan::line_index (else the
+/// row), time_offset_ns from the time offsets (else 0), no intensity column (25-byte records).
+/// core::InputError for a scan of several heads (export each head on its own) or a row beyond
+/// the 255 lines a record holds.
+AevaRecords aeva_records_from_scan(const core::Scan& scan);
+
+/// "0000000000100000000.bin": a stamp [s] as the 19-digit nanosecond name the datasets give
+/// their scans, which read_aeva_scan reads back as the stamp.
+std::string aeva_file_name(double stamp_s);
+
 /// How an Aeva file becomes a Scan.
 struct AevaScanParams {
   AevaLayout layout = AevaLayout::kAuto;

@@ -2,6 +2,7 @@
 // Where frames come from on the command line: the project's organized PCD, any PCD taken as a
 // list of points and projected onto a grid, or Aeva Aeries II scans.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,10 @@ struct InputOptions {
   InputFormat format = InputFormat::kPcd;
   AevaLayout aeva_layout = AevaLayout::kAuto;
   bool negate_velocity = false;  ///< points and aeva: flip the Doppler sign
+  /// What the velocities are measured against; unset: the format's default (pcd and points:
+  /// the file's "# fmcw_velocity_frame" comment, else sensor; aeva: ego-compensated, the
+  /// convention of the public Aeva datasets).
+  std::optional<core::VelocityFrame> velocity_frame;
   /// points and aeva: the grid. Rows by elevation for points, by line index for aeva.
   core::GridProjectionParams grid;
 };
@@ -35,6 +40,11 @@ std::vector<std::string> list_input_files(const std::string& input, InputFormat 
 
 struct InputFrame {
   core::Frame frame;
+  /// The velocity frame the file itself says or its format implies, before any override.
+  core::VelocityFrame file_velocity_frame = core::VelocityFrame::kSensor;
+  /// Where file_velocity_frame came from: "the file's fmcw_velocity_frame comment", "the Aeva
+  /// datasets' convention" or "the default".
+  std::string velocity_frame_source;
   bool projected = false;          ///< the scan was made by project_to_grid
   core::GridProjectionStats stats; ///< when projected
 };

@@ -56,6 +56,9 @@ void check_single_count(const PcdCloud& cloud, const std::vector<std::string>& n
 /// The stamp of a "# fmcw_stamp SECONDS" comment [s], 0 without one. std::invalid_argument naming
 /// the source and the comment when it is not one finite number.
 double stamp_from_comments(const PcdCloud& cloud, const std::string& source);
+/// The velocity frame of a "# fmcw_velocity_frame sensor|ego_compensated" comment, kSensor
+/// without one. core::FileError naming the source for any other value.
+core::VelocityFrame velocity_frame_from_comments(const PcdCloud& cloud, const std::string& source);
 
 /// Builds a Frame. Requires x y z v; range defaults to the distance from the beam origin,
 /// intensity to 0. A point with finite x, y, z is valid and must have finite values in every
