@@ -23,6 +23,7 @@ struct EvaluateOptions {
   std::uint64_t seed = 0;
   int threads = 0;
   int frames = 0;
+  double mot_iou = 0.5;
   bool no_figures = false;
 };
 }  // namespace
@@ -80,12 +81,16 @@ Action add_evaluate_command(CLI::App& app) {
   cmd->add_option("--seed", opt->seed, "Seed of the methods' random subsampling")->check(seed_validator());
   cmd->add_option("--threads", opt->threads, "Threads for per-object estimation (0 = all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--frames", opt->frames, "Evaluate only the first N frames")->check(CLI::PositiveNumber);
+  cmd->add_option("--mot-iou", opt->mot_iou,
+                  "Point IoU at which a track may match an object in the tracking metrics (default 0.5)")
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_flag("--no-figures", opt->no_figures, "Write metrics.json and the tables only (no Python report)");
   return [opt] {
     eval::EvaluationParams params;
     params.methods = opt->methods;
     params.seed = opt->seed;
     params.num_threads = opt->threads;
+    params.summary.mot_iou_threshold = opt->mot_iou;
     params.validate();
     std::error_code ec;
     if (eval::is_aevascenes_sequence(opt->dataset)) {
