@@ -1,4 +1,5 @@
-// fmcw export INPUT -o DIR --to ply|kitti|pcd|openpcdet: frames in the formats other tools read.
+// fmcw export INPUT -o DIR --to ply|kitti|pcd|openpcdet: frames in the formats other tools read;
+// --to mcap -o FILE.mcap: one MCAP file (export_mcap.cpp).
 
 #include <filesystem>
 #include <iostream>
@@ -12,6 +13,7 @@
 #include "fmcw/io/ply.hpp"
 #include "fmcw/io/semantic_kitti.hpp"
 #include "fmcw/io/truth_tables.hpp"
+#include "export_mcap.hpp"
 #include "input_flags.hpp"
 
 namespace fmcw::cli {
@@ -26,6 +28,7 @@ struct ExportOptions {
   std::string labels = "auto";
   double doppler_scale_mps = 10.0;
   InputFlags input;
+  McapExportArgs mcap;
 };
 
 using ActorClasses = std::map<std::uint32_t, std::string>;
@@ -140,6 +143,7 @@ io::PcdCloud read_cloud(const std::string& path, const io::InputOptions& input) 
 }
 
 int run_export(const ExportOptions& opt) {
+  if (opt.to == "mcap") return run_export_mcap(opt.input, opt.output, opt.mcap);
   const io::InputOptions input = opt.input.resolve();
   const io::LabelSource label_source = io::parse_label_source(opt.labels);
   if (!(opt.doppler_scale_mps > 0.0)) throw core::InputError("--doppler-scale must be > 0 m/s");
@@ -224,13 +228,17 @@ int run_export(const ExportOptions& opt) {
 
 Action add_export_command(CLI::App& app) {
   auto opt = std::make_shared<ExportOptions>();
-  CLI::App* cmd = app.add_subcommand("export", "Write frames as PLY, SemanticKITTI .bin/.label, PCD or OpenPCDet's layout");
-  cmd->add_option("-o,--output", opt->output, "Output folder")->required();
+  CLI::App* cmd = app.add_subcommand("export", "Write frames as PLY, SemanticKITTI .bin/.label, PCD, OpenPCDet's layout or MCAP");
+  cmd->add_option("-o,--output", opt->output, "Output folder (--to mcap: output file)")->required();
   cmd->add_option("--to", opt->to,
                   "ply, kitti (velodyne/NAME.bin + labels/NAME.label), pcd, or openpcdet (points/NAME.npy + "
-                  "labels/NAME.txt + ImageSets/train.txt + meta.json; datasets only)")
+                  "labels/NAME.txt + ImageSets/train.txt + meta.json; datasets only), or mcap (one file for Foxglove and "
+                  "ROS 2)")
       ->required()
-      ->check(CLI::IsMember({"ply", "kitti", "pcd", "openpcdet"}));
+      ->check(CLI::IsMember({"ply", "kitti", "pcd", "openpcdet", "mcap"}));
+  cmd->add_option("--compression", opt->mcap.compression, "mcap: chunk compression, zstd or none")
+      ->check(CLI::IsMember({"zstd", "none"}));
+  cmd->add_option("--points-topic", opt->mcap.topic, "mcap: the topic of the clouds");
   cmd->add_option("--color", opt->color, "ply: colour by doppler, label (instances), class (semantic classes), or none")
       ->check(CLI::IsMember({"doppler", "label", "class", "none"}));
   cmd->add_option("--labels", opt->labels, "Labels from: auto (estimate if the cloud has 'label', else truth), estimate, truth")

@@ -14,6 +14,8 @@ io::InputOptions InputFlags::resolve() const {
   o.grid.fov_vertical_deg = fov_vertical_deg;
   o.grid.resolution_vertical_deg = resolution_vertical_deg;
   o.grid.lines = lines;
+  o.mcap.topic = mcap_topic;
+  o.mcap.doppler_field = doppler_field;
   o.grid.validate();
   return o;
 }
@@ -23,7 +25,7 @@ void add_input_flags(CLI::App* cmd, InputFlags& f) {
       ->required();
   cmd->add_option("--format", f.format,
                   "Input: pcd (organized frames), points (any PCD with x y z v, projected onto a grid), "
-                  "aeva (Aeva Aeries II .bin scans)")
+                  "aeva (Aeva Aeries II .bin scans), mcap (PointCloud2 messages of --topic)")
       ->check(CLI::IsMember(io::input_format_names()));
   cmd->add_option("--aeva-record", f.aeva_record, "Aeva record size: auto, 25 or 29 bytes")
       ->check(CLI::IsMember({"auto", "25", "29"}));
@@ -33,7 +35,11 @@ void add_input_flags(CLI::App* cmd, InputFlags& f) {
   cmd->add_option("--res-h", f.resolution_horizontal_deg, "points, aeva: azimuth bin [deg]");
   cmd->add_option("--fov-v", f.fov_vertical_deg, "points: elevation span of the grid [deg]");
   cmd->add_option("--res-v", f.resolution_vertical_deg, "points: elevation bin [deg]");
-  cmd->add_flag("--negate-velocity", f.negate_velocity, "points, aeva: flip the Doppler sign to the project's (+ away)");
+  cmd->add_flag("--negate-velocity", f.negate_velocity,
+                "points, aeva, mcap: flip the Doppler sign to the project's (+ away)");
+  cmd->add_option("--topic", f.mcap_topic, "mcap: the PointCloud2 topic to read");
+  cmd->add_option("--doppler-field", f.doppler_field, "mcap: the Doppler field (auto tries v, velocity, doppler, radial_vel)")
+      ->check(CLI::IsMember({"auto", "v", "velocity", "doppler", "radial_vel"}));
 }
 
 std::string projection_summary(const io::InputFrame& frame) {

@@ -19,6 +19,8 @@ struct InputFlags {
   double fov_vertical_deg = 30.0;
   double resolution_vertical_deg = 0.2;
   bool negate_velocity = false;
+  std::string mcap_topic = "/points";
+  std::string doppler_field = "auto";
 
   /// Checks the values (std::invalid_argument naming the option) and returns them as options.
   io::InputOptions resolve() const;
