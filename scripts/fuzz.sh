@@ -3,14 +3,14 @@
 # time from the committed seed corpus (tests/fuzz/corpus/<target>). Inputs the fuzzer finds go
 # to build-fuzz/corpus/<target>, crashes to build-fuzz/artifacts/<target>/; a crash fails the
 # script and prints the command that replays it.
-#   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]      defaults: 60, pcd scenario mesh
+#   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]      defaults: 60, pcd scenario mesh mcap
 # Each target's dictionary is tests/fuzz/<target>.dict, but mesh's is tests/fuzz/gltf.dict.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(pcd scenario mesh)
+[ ${#targets[@]} -eq 0 ] && targets=(pcd scenario mesh mcap)
 build=${FMCW_FUZZ_BUILD:-build-fuzz}
 
 bash scripts/setup.sh --fuzz

@@ -16,7 +16,13 @@ packages=(
   # A one-node SLURM cluster the array-job test starts on this machine (tests/slurm), with munge
   # for its authentication; the test runs its own daemons and leaves the system's alone.
   slurm-wlm munge
+  # MCAP: CRC-32 (zlib) and zstd chunks (io/src/mcap_*.cpp).
+  zlib1g-dev libzstd-dev
 )
+# The independent MCAP reader test (tests/tools/mcap_js) runs Foxglove's npm libraries under
+# node: Debian's nodejs and npm, unless a node with npm is installed already (NodeSource's
+# nodejs bundles npm and conflicts with Debian's npm package).
+if ! command -v node > /dev/null || ! command -v npm > /dev/null; then packages+=(nodejs npm); fi
 if [ "${1:-}" = "--fuzz" ]; then packages+=(clang-14 libclang-rt-14-dev); fi
 
 missing=()

@@ -14,15 +14,17 @@ InputFormat parse_input_format(const std::string& text) {
   if (text == "pcd") return InputFormat::kPcd;
   if (text == "points") return InputFormat::kPoints;
   if (text == "aeva") return InputFormat::kAeva;
-  throw core::InputError("input format must be pcd, points or aeva, got '" + text + "'");
+  if (text == "mcap") return InputFormat::kMcap;
+  throw core::InputError("input format must be pcd, points, aeva or mcap, got '" + text + "'");
 }
 
 const std::vector<std::string>& input_format_names() {
-  static const std::vector<std::string> names = {"pcd", "points", "aeva"};
+  static const std::vector<std::string> names = {"pcd", "points", "aeva", "mcap"};
   return names;
 }
 
 std::vector<std::string> list_input_files(const std::string& input, InputFormat format) {
+  if (format == InputFormat::kMcap) return list_frame_files(input, ".mcap");
   return list_frame_files(input, format == InputFormat::kAeva ? ".bin" : ".pcd");
 }
 
@@ -77,7 +79,40 @@ std::string comment_source(const PcdCloud& cloud) {
 }
 }  // namespace
 
+InputFrame frame_from_cloud(const PcdCloud& cloud, const std::string& source, const InputOptions& options) {
+  InputFrame out;
+  if (cloud.height > 1 && options.format != InputFormat::kPoints) {
+    out.frame = frame_from_pcd(cloud, source);
+    if (options.negate_velocity) {
+      for (float& v : out.frame.scan.radial_velocity_mps) v = -v;
+    }
+    set_velocity_frame(out, out.frame.scan.velocity_frame, comment_source(cloud), options);
+    return out;
+  }
+  core::PointList points = points_from_pcd(cloud, source);
+  if (options.negate_velocity) {
+    for (float& v : points.radial_velocity_mps) v = -v;
+  }
+  options.grid.validate();  // a bad option is the caller's error (InputError), not the file's
+  core::GridProjection projection;
+  try {
+    projection = core::project_to_grid(points, options.grid);
+  } catch (const std::exception&) {
+    core::rethrow_as_file_error(concat(source, ": "));  // a bad point is the file's
+  }
+  if (options.format == InputFormat::kMcap) projection.scan.stamp_s = stamp_from_comments(cloud, source);
+  out.frame.scan = std::move(projection.scan);
+  set_velocity_frame(out, velocity_frame_from_comments(cloud, source), comment_source(cloud), options);
+  out.projected = true;
+  out.stats = projection.stats;
+  return out;
+}
+
 InputFrame read_input_frame(const std::string& path, const InputOptions& options) {
+  // An MCAP file holds many frames: InputSequence reads it (fmcw process, fmcw export --to mcap).
+  if (options.format == InputFormat::kMcap) {
+    throw core::InputError(concat(path, ": --format mcap is read by `fmcw process` and `fmcw export --to mcap` only"));
+  }
   InputFrame out;
   if (options.format == InputFormat::kPcd) {
     const PcdCloud cloud = read_pcd(path);
@@ -99,18 +134,9 @@ InputFrame read_input_frame(const std::string& path, const InputOptions& options
     // A stamp comment is checked as the organized reader checks it, so that no reader takes a
     // file the other refuses. The projected scan keeps stamp 0, as it always has.
     stamp_from_comments(cloud, path);
-    implied = velocity_frame_from_comments(cloud, path);
-    source = comment_source(cloud);
-    core::PointList points = points_from_pcd(cloud, path);
-    if (options.negate_velocity) {
-      for (float& v : points.radial_velocity_mps) v = -v;
-    }
-    options.grid.validate();  // a bad option is the caller's error (InputError), not the file's
-    try {
-      projection = core::project_to_grid(points, options.grid);
-    } catch (const std::exception&) {
-      core::rethrow_as_file_error(concat(path, ": "));  // a bad point is the file's
-    }
+    InputOptions points = options;
+    points.format = InputFormat::kPoints;
+    return frame_from_cloud(cloud, path, points);
   }
   out.frame.scan = std::move(projection.scan);
   set_velocity_frame(out, implied, source, options);

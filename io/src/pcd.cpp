@@ -15,10 +15,14 @@
 #include "fmcw/core/check.hpp"
 #include "fmcw/io/atomic_file.hpp"
 #include "fmcw/io/input_file.hpp"
+#include "pcd_values.hpp"
 
 namespace fmcw::io {
 
 using core::concat;
+using detail::decode;
+using detail::encode;
+using detail::valid_type_size;
 
 namespace {
 
@@ -28,55 +32,6 @@ std::vector<std::string> split_words(const std::string& line) {
   std::string w;
   while (in >> w) words.push_back(w);
   return words;
-}
-
-bool valid_type_size(char type, int size) {
-  if (type == 'F') return size == 4 || size == 8;
-  if (type == 'U' || type == 'I') return size == 1 || size == 2 || size == 4 || size == 8;
-  return false;
-}
-
-double decode(const unsigned char* p, char type, int size) {
-  switch (type) {
-    case 'F': {
-      if (size == 4) { float v; std::memcpy(&v, p, 4); return v; }
-      double v; std::memcpy(&v, p, 8); return v;
-    }
-    case 'U': {
-      if (size == 1) return *p;
-      if (size == 2) { std::uint16_t v; std::memcpy(&v, p, 2); return v; }
-      if (size == 4) { std::uint32_t v; std::memcpy(&v, p, 4); return v; }
-      std::uint64_t v; std::memcpy(&v, p, 8); return static_cast<double>(v);
-    }
-    default: {
-      if (size == 1) { std::int8_t v; std::memcpy(&v, p, 1); return v; }
-      if (size == 2) { std::int16_t v; std::memcpy(&v, p, 2); return v; }
-      if (size == 4) { std::int32_t v; std::memcpy(&v, p, 4); return v; }
-      std::int64_t v; std::memcpy(&v, p, 8); return static_cast<double>(v);
-    }
-  }
-}
-
-void encode(double value, char type, int size, unsigned char* p) {
-  switch (type) {
-    case 'F': {
-      if (size == 4) { const float v = static_cast<float>(value); std::memcpy(p, &v, 4); return; }
-      std::memcpy(p, &value, 8);
-      return;
-    }
-    case 'U': {
-      if (size == 1) { *p = static_cast<std::uint8_t>(value); return; }
-      if (size == 2) { const auto v = static_cast<std::uint16_t>(value); std::memcpy(p, &v, 2); return; }
-      if (size == 4) { const auto v = static_cast<std::uint32_t>(value); std::memcpy(p, &v, 4); return; }
-      const auto v = static_cast<std::uint64_t>(value); std::memcpy(p, &v, 8); return;
-    }
-    default: {
-      if (size == 1) { const auto v = static_cast<std::int8_t>(value); std::memcpy(p, &v, 1); return; }
-      if (size == 2) { const auto v = static_cast<std::int16_t>(value); std::memcpy(p, &v, 2); return; }
-      if (size == 4) { const auto v = static_cast<std::int32_t>(value); std::memcpy(p, &v, 4); return; }
-      const auto v = static_cast<std::int64_t>(value); std::memcpy(p, &v, 8); return;
-    }
-  }
 }
 
 int parse_int(const std::string& s, const std::string& where) {
@@ -167,7 +122,9 @@ const PcdField* PcdCloud::find(const std::string& name) const {
   return nullptr;
 }
 
-PcdCloud read_pcd(const std::string& path) {
+namespace {
+// packed: a binary file's data is copied as it lies into it instead of decoded into the fields.
+PcdCloud read_pcd_impl(const std::string& path, PcdPackedData* packed) {
   regular_file_size(path, "PCD file");  // before opening: a FIFO would block, /dev/zero never ends
   std::ifstream in(path, std::ios::binary);
   if (!in) throw core::FileError(concat(path, ": cannot open PCD file: ", std::strerror(errno)));
@@ -285,16 +242,34 @@ PcdCloud read_pcd(const std::string& path) {
   } else {
     throw core::FileError(concat(where("DATA"), " '", data_kind, "' is not supported (use binary or ascii)"));
   }
+  const bool copy_packed = packed != nullptr && data_kind == "binary";
   for (const auto& rf : raw) {
     if (rf.name == "_") continue;
     if (rf.count == 1) {
-      cloud.fields.push_back(PcdField{rf.name, rf.type, rf.size, std::vector<double>(n)});
+      cloud.fields.push_back(PcdField{rf.name, rf.type, rf.size, std::vector<double>(copy_packed ? 0 : n)});
     } else {
       cloud.multi_count_fields.emplace_back(rf.name, rf.count);
     }
   }
 
-  if (data_kind == "binary") {
+  if (copy_packed) {
+    packed->stride = stride;
+    packed->layout.clear();
+    std::size_t offset = 0;
+    for (const auto& rf : raw) {
+      packed->layout.push_back({rf.name, rf.type, rf.size, rf.count, offset});
+      offset += static_cast<std::size_t>(rf.size) * static_cast<std::size_t>(rf.count);
+    }
+    const auto needed = static_cast<std::size_t>(n * stride);
+    packed->data.resize(static_cast<std::size_t>(available));
+    in.read(reinterpret_cast<char*>(packed->data.data()), available);
+    FMCW_CHECK_FILE(in.gcount() == available, path, ": read error in PCD data (did the file change while it was read?)");
+    FMCW_CHECK_FILE(std::all_of(packed->data.begin() + static_cast<std::ptrdiff_t>(needed), packed->data.end(),
+                                [](std::uint8_t b) { return b == 0; }),
+                    path, ": PCD data is ", available, " bytes but the header describes ", needed, " (", n,
+                    " points of ", stride, " bytes); the header does not match the data");
+    packed->data.resize(needed);
+  } else if (data_kind == "binary") {
     const auto needed = static_cast<std::size_t>(n * stride);
     BlockReader body(in, path, static_cast<std::size_t>(available));
     for (std::size_t i = 0; i < n; ++i) {
@@ -342,6 +317,16 @@ PcdCloud read_pcd(const std::string& path) {
     }
   }
   return cloud;
+}
+}  // namespace
+
+PcdCloud read_pcd(const std::string& path) { return read_pcd_impl(path, nullptr); }
+
+bool read_pcd_packed(const std::string& path, PcdCloud& cloud, PcdPackedData& packed) {
+  packed.layout.clear();  // packed.data keeps its memory: resizing to the same size costs nothing
+  packed.stride = 0;
+  cloud = read_pcd_impl(path, &packed);
+  return !packed.layout.empty();  // filled for a binary file only
 }
 
 void write_pcd(const std::string& path, const PcdCloud& cloud) {
@@ -443,6 +428,36 @@ const std::vector<std::string>& known_frame_fields() {
   return names;
 }
 
+std::vector<core::HeadInfo> heads_from_comments(const PcdCloud& cloud, const std::string& source) {
+  std::vector<core::HeadInfo> heads;
+  for (const auto& c : cloud.comments) {
+    const auto w = split_words(c);
+    if (!w.empty() && w[0] == "fmcw_head") {
+      FMCW_CHECK_FILE(w.size() == 12, source, ": comment '# ", c,
+                      "': expected fmcw_head NAME COL_BEGIN COL_END STITCHED TX TY TZ QW QX QY QZ");
+      core::HeadInfo head;
+      head.name = w[1];
+      head.col_begin = parse_int(w[2], source + ": fmcw_head col_begin");
+      head.col_end = parse_int(w[3], source + ": fmcw_head col_end");
+      head.stitched_to_next = w[4] == "1";
+      double v[7];
+      for (int k = 0; k < 7; ++k) {
+        char* end = nullptr;
+        v[k] = std::strtod(w[5 + static_cast<std::size_t>(k)].c_str(), &end);
+        FMCW_CHECK_FILE(end && *end == '\0' && std::isfinite(v[k]), source, ": comment '# ", c, "': value ", k + 5,
+                        " is not a finite number");
+      }
+      head.T_rig_head = Eigen::Isometry3d::Identity();
+      head.T_rig_head.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
+      const Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);
+      FMCW_CHECK_FILE(std::abs(q.norm() - 1.0) < 1e-6, source, ": fmcw_head '", head.name, "' rotation is not a unit quaternion");
+      head.T_rig_head.linear() = q.toRotationMatrix();
+      heads.push_back(head);
+    }
+  }
+  return heads;
+}
+
 core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source) {
   for (const auto& f : cloud.fields) {
     const auto& known = known_frame_fields();
@@ -467,31 +482,7 @@ core::Frame frame_from_pcd(const PcdCloud& cloud, const std::string& source) {
   scan.heads.clear();
   scan.stamp_s = stamp_from_comments(cloud, source);
   scan.velocity_frame = velocity_frame_from_comments(cloud, source);
-  for (const auto& c : cloud.comments) {
-    const auto w = split_words(c);
-    if (!w.empty() && w[0] == "fmcw_head") {
-      FMCW_CHECK_FILE(w.size() == 12, source, ": comment '# ", c,
-                      "': expected fmcw_head NAME COL_BEGIN COL_END STITCHED TX TY TZ QW QX QY QZ");
-      core::HeadInfo head;
-      head.name = w[1];
-      head.col_begin = parse_int(w[2], source + ": fmcw_head col_begin");
-      head.col_end = parse_int(w[3], source + ": fmcw_head col_end");
-      head.stitched_to_next = w[4] == "1";
-      double v[7];
-      for (int k = 0; k < 7; ++k) {
-        char* end = nullptr;
-        v[k] = std::strtod(w[5 + static_cast<std::size_t>(k)].c_str(), &end);
-        FMCW_CHECK_FILE(end && *end == '\0' && std::isfinite(v[k]), source, ": comment '# ", c, "': value ", k + 5,
-                        " is not a finite number");
-      }
-      head.T_rig_head = Eigen::Isometry3d::Identity();
-      head.T_rig_head.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
-      const Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);
-      FMCW_CHECK_FILE(std::abs(q.norm() - 1.0) < 1e-6, source, ": fmcw_head '", head.name, "' rotation is not a unit quaternion");
-      head.T_rig_head.linear() = q.toRotationMatrix();
-      scan.heads.push_back(head);
-    }
-  }
+  scan.heads = heads_from_comments(cloud, source);
   if (scan.heads.empty()) {
     core::HeadInfo head;
     head.name = "sensor";

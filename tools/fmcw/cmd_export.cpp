@@ -1,4 +1,5 @@
-// fmcw export INPUT -o DIR --to ply|kitti|pcd|openpcdet: frames in the formats other tools read.
+// fmcw export INPUT -o DIR --to ply|kitti|pcd|openpcdet: frames in the formats other tools read;
+// --to mcap -o FILE.mcap: one MCAP file (export_mcap.cpp).
 
 #include <filesystem>
 #include <iostream>
@@ -13,6 +14,7 @@
 #include "fmcw/io/ply.hpp"
 #include "fmcw/io/semantic_kitti.hpp"
 #include "fmcw/io/truth_tables.hpp"
+#include "export_mcap.hpp"
 #include "fmcw/io/tum_poses.hpp"
 #include "input_flags.hpp"
 
@@ -28,6 +30,7 @@ struct ExportOptions {
   std::string labels = "auto";
   double doppler_scale_mps = 10.0;
   InputFlags input;
+  McapExportArgs mcap;
 };
 
 using ActorClasses = std::map<std::uint32_t, std::string>;
@@ -166,6 +169,7 @@ int export_poses(const ExportOptions& opt, const DatasetTables& tables, const fs
 }
 
 int run_export(const ExportOptions& opt) {
+  if (opt.to == "mcap") return run_export_mcap(opt.input, opt.output, opt.mcap);
   const io::InputOptions input = opt.input.resolve();
   const io::LabelSource label_source = io::parse_label_source(opt.labels);
   if (!(opt.doppler_scale_mps > 0.0)) throw core::InputError("--doppler-scale must be > 0 m/s");
@@ -263,15 +267,18 @@ int run_export(const ExportOptions& opt) {
 
 Action add_export_command(CLI::App& app) {
   auto opt = std::make_shared<ExportOptions>();
-  CLI::App* cmd = app.add_subcommand("export", "Write frames as PLY, SemanticKITTI .bin/.label, PCD or OpenPCDet's layout");
-  cmd->add_option("-o,--output", opt->output, "Output folder")->required();
+  CLI::App* cmd = app.add_subcommand("export", "Write frames as PLY, SemanticKITTI .bin/.label, PCD, OpenPCDet's layout or MCAP");
+  cmd->add_option("-o,--output", opt->output, "Output folder (--to mcap: output file)")->required();
   cmd->add_option("--to", opt->to,
                   "ply, kitti (velodyne/NAME.bin + labels/NAME.label), pcd, openpcdet (points/NAME.npy + "
-                  "labels/NAME.txt + ImageSets/train.txt + meta.json; datasets only), or aeva (STAMP_NS.bin, "
-                  "Aeva Aeries II records in the head's frame; one-head rigs), or tum (poses.tum: the dataset's ego "
-                  "poses for --poses)")
+                  "labels/NAME.txt + ImageSets/train.txt + meta.json; datasets only), aeva (STAMP_NS.bin, "
+                  "Aeva Aeries II records in the head's frame; one-head rigs), tum (poses.tum: the dataset's ego "
+                  "poses for --poses), or mcap (one file for Foxglove and ROS 2)")
       ->required()
-      ->check(CLI::IsMember({"ply", "kitti", "pcd", "openpcdet", "aeva", "tum"}));
+      ->check(CLI::IsMember({"ply", "kitti", "pcd", "openpcdet", "aeva", "tum", "mcap"}));
+  cmd->add_option("--compression", opt->mcap.compression, "mcap: chunk compression, zstd or none")
+      ->check(CLI::IsMember({"zstd", "none"}));
+  cmd->add_option("--points-topic", opt->mcap.topic, "mcap: the topic of the clouds");
   cmd->add_option("--color", opt->color, "ply: colour by doppler, label (instances), class (semantic classes), or none")
       ->check(CLI::IsMember({"doppler", "label", "class", "none"}));
   cmd->add_option("--labels", opt->labels, "Labels from: auto (estimate if the cloud has 'label', else truth), estimate, truth")

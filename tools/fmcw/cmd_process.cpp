@@ -11,6 +11,7 @@
 #include "fmcw/core/motion_pipeline.hpp"
 #include "fmcw/io/atomic_file.hpp"
 #include "fmcw/io/frame_layout.hpp"
+#include "fmcw/io/input_sequence.hpp"
 #include "fmcw/io/output_folder.hpp"
 #include "fmcw/io/results_writer.hpp"
 #include "fmcw/io/tum_poses.hpp"
@@ -56,35 +57,36 @@ void apply_poses(io::InputFrame& in, const std::optional<core::PoseSeries>& pose
 
 // Runs the pipeline on every file, writing each frame's labelled cloud (recorded in `written`)
 // and, once all are done, the tables.
-void process_frames(const ProcessOptions& opt, const io::InputOptions& input, const std::vector<std::string>& files,
-                    core::MotionPipeline& pipeline, const fs::path& label_dir, std::vector<fs::path>& written) {
+void process_frames(const ProcessOptions& opt, io::InputSequence& files, core::MotionPipeline& pipeline,
+                    const fs::path& label_dir, std::vector<fs::path>& written) {
   const std::optional<core::PoseSeries> poses =
       opt.poses.empty() ? std::nullopt : std::optional<core::PoseSeries>(io::read_tum_poses(opt.poses));
   io::ResultsWriter writer(opt.output);
   io::FrameLayoutCheck layout;
   for (std::size_t k = 0; k < files.size(); ++k) {
-    io::InputFrame in = io::read_input_frame(files[k], input);
+    io::InputFrame in = files.read(k);
+    const std::string file = files.source(k);
     if (k == 0) {
       const std::string note = velocity_frame_note(in, opt.input);
       if (!note.empty()) std::cerr << note << "\n";
     }
-    apply_poses(in, poses, files[k], k == 0);
+    apply_poses(in, poses, file, k == 0);
     const core::Frame& frame = in.frame;
     // Organized frames bring their own shape and heads; a projected frame's come from the grid
     // options (and, for Aeva scans without --aeva-lines, rows from each scan's line indices).
-    if (!in.projected) layout.check(frame.scan, files[k]);
-    if (in.projected) std::cerr << files[k] << ": " << projection_summary(in) << "\n";
+    if (!in.projected) layout.check(frame.scan, file);
+    if (in.projected) std::cerr << file << ": " << projection_summary(in) << "\n";
     const core::MotionEstimate est = pipeline.process(frame.scan, k);
-    if (!est.ok()) throw std::runtime_error(files[k] + ": " + est.message);
-    writer.add(k, files[k], est);
+    if (!est.ok()) throw std::runtime_error(file + ": " + est.message);
+    writer.add(k, file, est);
     if (!opt.no_clouds) {
       // Labelled clouds are PCD whatever the input: an Aeva scan's labels go to NAME.pcd.
-      const fs::path name = label_dir / (fs::path(files[k]).stem().string() + ".pcd");
+      const fs::path name = label_dir / (files.stem(k) + ".pcd");
       written.push_back(name);
       io::write_labelled_pcd(name.string(), frame.scan, est);
     }
     const Eigen::Vector3d& v = est.ego.velocity_mps;
-    std::cerr << "[" << k + 1 << "/" << files.size() << "] " << files[k] << ": " << est.clusters.size()
+    std::cerr << "[" << k + 1 << "/" << files.size() << "] " << file << ": " << est.clusters.size()
               << " moving clusters, ego (" << v.x() << ", " << v.y() << ", " << v.z() << ") m/s, "
               << est.timing.total_ms << " ms\n";
   }
@@ -93,7 +95,7 @@ void process_frames(const ProcessOptions& opt, const io::InputOptions& input, co
 
 int run_process(const ProcessOptions& opt) {
   const io::InputOptions input = opt.input.resolve();
-  const std::vector<std::string> files = io::list_input_files(opt.input.path, input.format);
+  io::InputSequence files(opt.input.path, input);
   core::MotionPipelineParams params = core::MotionPipelineParams::preset(opt.method);
   params.seed = opt.seed;
   params.num_threads = opt.threads;
@@ -110,7 +112,7 @@ int run_process(const ProcessOptions& opt) {
   // too (and the folders this run made, if nothing else is in them): no half-written output.
   std::vector<fs::path> written;
   try {
-    process_frames(opt, input, files, pipeline, label_dir, written);
+    process_frames(opt, files, pipeline, label_dir, written);
   } catch (...) {
     for (const fs::path& f : written) fs::remove(f, ec);
     lock.reset();
@@ -127,7 +129,7 @@ int run_process(const ProcessOptions& opt) {
 
 Action add_process_command(CLI::App& app) {
   auto opt = std::make_shared<ProcessOptions>();
-  CLI::App* cmd = app.add_subcommand("process", "Run a motion method on a PCD file, a dataset folder or Aeva scans");
+  CLI::App* cmd = app.add_subcommand("process", "Run a motion method on a PCD file, a dataset folder, Aeva scans or an MCAP file");
   cmd->add_option("-o,--output", opt->output, "Output folder")->required();
   cmd->add_option("--method", opt->method, "Motion method")->check(CLI::IsMember(core::MotionPipelineParams::preset_names()));
   cmd->add_option("--seed", opt->seed, "Seed of the random subsampling")->check(seed_validator());

@@ -15,6 +15,8 @@ io::InputOptions InputFlags::resolve() const {
   o.grid.fov_vertical_deg = fov_vertical_deg;
   o.grid.resolution_vertical_deg = resolution_vertical_deg;
   o.grid.lines = lines;
+  o.mcap.topic = mcap_topic;
+  o.mcap.doppler_field = doppler_field;
   o.grid.validate();
   return o;
 }
@@ -24,7 +26,7 @@ void add_input_flags(CLI::App* cmd, InputFlags& f) {
       ->required();
   cmd->add_option("--format", f.format,
                   "Input: pcd (organized frames), points (any PCD with x y z v, projected onto a grid), "
-                  "aeva (Aeva Aeries II .bin scans)")
+                  "aeva (Aeva Aeries II .bin scans), mcap (PointCloud2 messages of --topic)")
       ->check(CLI::IsMember(io::input_format_names()));
   cmd->add_option("--aeva-record", f.aeva_record, "Aeva record size: auto, 25 or 29 bytes")
       ->check(CLI::IsMember({"auto", "25", "29"}));
@@ -36,10 +38,14 @@ void add_input_flags(CLI::App* cmd, InputFlags& f) {
   cmd->add_option("--res-v", f.resolution_vertical_deg, "points: elevation bin [deg]");
   cmd->add_option("--velocity-frame", f.velocity_frame,
                   "What the velocities are measured against: raw (the sensor's Doppler) or compensated "
-                  "(ego-motion compensated, the static world at 0). Default: pcd and points as the file says "
-                  "(else raw), aeva compensated (the public datasets' convention)")
+                  "(ego-motion compensated, the static world at 0). Default: pcd, points and mcap as the file "
+                  "says (else raw), aeva compensated (the public datasets' convention)")
       ->check(CLI::IsMember({"raw", "compensated"}));
-  cmd->add_flag("--negate-velocity", f.negate_velocity, "points, aeva: flip the Doppler sign to the project's (+ away)");
+  cmd->add_flag("--negate-velocity", f.negate_velocity,
+                "points, aeva, mcap: flip the Doppler sign to the project's (+ away)");
+  cmd->add_option("--topic", f.mcap_topic, "mcap: the PointCloud2 topic to read");
+  cmd->add_option("--doppler-field", f.doppler_field, "mcap: the Doppler field (auto tries v, velocity, doppler, radial_vel)")
+      ->check(CLI::IsMember({"auto", "v", "velocity", "doppler", "radial_vel"}));
 }
 
 std::string velocity_frame_note(const io::InputFrame& in, const InputFlags& flags) {

@@ -20,6 +20,8 @@ struct InputFlags {
   double resolution_vertical_deg = 0.2;
   bool negate_velocity = false;
   std::string velocity_frame;  ///< "", "raw" or "compensated"
+  std::string mcap_topic = "/points";
+  std::string doppler_field = "auto";
 
   /// Checks the values (std::invalid_argument naming the option) and returns them as options.
   io::InputOptions resolve() const;

@@ -8,6 +8,7 @@
 
 #include "fmcw/core/grid_projection.hpp"
 #include "fmcw/io/aeva.hpp"
+#include "fmcw/io/mcap_frames.hpp"
 #include "fmcw/io/pcd.hpp"
 
 namespace fmcw::io {
@@ -17,9 +18,10 @@ enum class InputFormat {
   kPoints,  ///< any PCD with x y z v (intensity and t optional), unorganized or not: projected
             ///< (stamp 0; a "# fmcw_stamp" comment must still be a finite number)
   kAeva,    ///< Aeva Aeries II .bin scans: rows by line index, columns by azimuth
+  kMcap,    ///< sensor_msgs/PointCloud2 messages of one topic of an MCAP file (mcap_frames.hpp)
 };
 
-/// "pcd", "points" or "aeva"; std::invalid_argument otherwise.
+/// "pcd", "points", "aeva" or "mcap"; std::invalid_argument otherwise.
 InputFormat parse_input_format(const std::string& text);
 const std::vector<std::string>& input_format_names();
 
@@ -33,6 +35,7 @@ struct InputOptions {
   std::optional<core::VelocityFrame> velocity_frame;
   /// points and aeva: the grid. Rows by elevation for points, by line index for aeva.
   core::GridProjectionParams grid;
+  McapInputOptions mcap;  ///< mcap: the topic and the Doppler field
 };
 
 /// The files of an input: itself, or a folder's frames (*.pcd, or *.bin for aeva), sorted.
@@ -51,6 +54,10 @@ struct InputFrame {
 
 /// Reads one file in the given format. Errors name the file.
 InputFrame read_input_frame(const std::string& path, const InputOptions& options);
+
+/// A cloud read from `source` as a frame: organized (HEIGHT > 1) as it is (frame_from_pcd), a
+/// HEIGHT 1 cloud as points (points_from_pcd) projected onto the options' grid.
+InputFrame frame_from_cloud(const PcdCloud& cloud, const std::string& source, const InputOptions& options);
 
 /// A PCD's points with finite x, y, z as a point list: x y z v required, intensity and t taken
 /// when present (each with COUNT 1), other fields ignored. Errors name the source.

@@ -7,6 +7,7 @@
 // ground truth. Head layout and stamp travel in comment lines
 // ("# fmcw_head ...", "# fmcw_stamp ..."), which other PCD readers skip.
 
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -42,6 +43,26 @@ struct PcdCloud {
 /// core::LimitError for more than 2^31 points or more data than a file can hold.
 PcdCloud read_pcd(const std::string& path);
 
+/// A binary PCD's data as it lies in the file (points packed, fields interleaved), for writers
+/// that pass it on without decoding it (the MCAP export).
+struct PcdPackedData {
+  struct Field {
+    std::string name;
+    char type = 'F';
+    int size = 4;
+    int count = 1;
+    std::size_t offset = 0;  ///< in a point [bytes]
+  };
+  std::vector<Field> layout;  ///< every field of the file in order, "_" padding and COUNT > 1 included
+  std::size_t stride = 0;     ///< bytes per point
+  std::vector<std::uint8_t> data;  ///< points() * stride bytes
+};
+
+/// read_pcd with the same checks, but the data of a binary file is copied into `packed` and the
+/// cloud's fields carry no values: returns true. An ASCII file is read as read_pcd reads it
+/// (the fields hold the values): returns false.
+bool read_pcd_packed(const std::string& path, PcdCloud& cloud, PcdPackedData& packed);
+
 /// Writes binary PCD atomically; std::runtime_error when the file cannot be written.
 void write_pcd(const std::string& path, const PcdCloud& cloud);
 
@@ -59,6 +80,11 @@ double stamp_from_comments(const PcdCloud& cloud, const std::string& source);
 /// The velocity frame of a "# fmcw_velocity_frame sensor|ego_compensated" comment, kSensor
 /// without one. core::FileError naming the source for any other value.
 core::VelocityFrame velocity_frame_from_comments(const PcdCloud& cloud, const std::string& source);
+
+/// The heads of "# fmcw_head NAME COL_BEGIN COL_END STITCHED TX TY TZ QW QX QY QZ" comments, in
+/// order; none without such comments. std::invalid_argument naming the source and the comment
+/// when one is malformed. Spans are not checked against the cloud here (frame_from_pcd does).
+std::vector<core::HeadInfo> heads_from_comments(const PcdCloud& cloud, const std::string& source);
 
 /// Builds a Frame. Requires x y z v; range defaults to the distance from the beam origin,
 /// intensity to 0. A point with finite x, y, z is valid and must have finite values in every
