@@ -14,8 +14,10 @@ targets=("$@")
 build=${FMCW_FUZZ_BUILD:-build-fuzz}
 
 bash scripts/setup.sh --fuzz
+# -Wno-pass-failed: clang reports an `omp simd` loop it chose not to vectorise as an error under
+# -Werror (core/src/ego_twist.cpp); gcc, the project's compiler, has no such warning.
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 -DFMCW_FUZZ=ON \
-  -DFMCW_BUILD_TESTS=OFF -DFMCW_BUILD_BENCH=OFF > "$build.log" 2>&1 || { cat "$build.log"; exit 1; }
+  -DCMAKE_CXX_FLAGS=-Wno-pass-failed -DFMCW_BUILD_TESTS=OFF -DFMCW_BUILD_BENCH=OFF > "$build.log" 2>&1 || { cat "$build.log"; exit 1; }
 cmake --build "$build" -j"$(nproc)" --target "${targets[@]/#/fuzz_}" >> "$build.log" 2>&1 || { tail -50 "$build.log"; exit 1; }
 
 status=0
