@@ -155,7 +155,7 @@ void ObjectTracker::update(const Scan& scan, const ScanBeams& beams, MotionEstim
   split_shared_clusters(frame, est, cluster_pixels, tracks_, boxes, p);
   std::vector<Group> groups(tracks_.size());
   Association assoc = associate(frame, cluster_pixels, est, tracks_, boxes, p, groups);
-  merge_nested_tracks(frame, tracks_, boxes, p, assoc, groups);
+  merge_nested_tracks(tracks_, boxes, p, assoc, groups);
   // Claim: the parts of carrying tracks inside the blind band.
   claim_pixels(frame, est, tracks_, boxes, background_, p, groups);
   // Measure every track that has pixels this frame.
@@ -163,12 +163,15 @@ void ObjectTracker::update(const Scan& scan, const ScanBeams& beams, MotionEstim
     if (!groups[t].empty()) measure(tracks_[t], groups[t], false, frame, edges, p);
     update_track_state(tracks_[t], groups[t], p);
   }
-  // Birth: new tracks from the clusters no track took.
+  // Birth: new tracks from the clusters no track took, unless inside a vehicle's measured box.
+  const std::size_t measured = tracks_.size();
+  std::vector<Box> measured_boxes(measured);
+  for (std::size_t t = 0; t < measured; ++t) measured_boxes[t] = box_of(tracks_[t]);
   for (std::size_t c = 0; c < est.clusters.size(); ++c) {
     if (assoc.owner[c] >= 0 || assoc.absorbed[c] >= 0 ||
         static_cast<int>(cluster_pixels[c].size()) < p.association.min_cluster_pixels || !est.clusters[c].velocity.valid)
       continue;
-    const int vehicle = inside_vehicle(frame, est.clusters[c], tracks_, p);
+    const int vehicle = inside_vehicle(frame, est.clusters[c], tracks_, measured_boxes, p);
     if (vehicle >= 0) {
       assoc.absorbed[c] = vehicle;
       groups[static_cast<std::size_t>(vehicle)].absorbed.push_back(static_cast<std::int32_t>(c + 1));

@@ -23,6 +23,23 @@ struct PointOverlaps {
   std::map<std::pair<std::uint32_t, std::int32_t>, int> overlaps;  ///< (actor, label) -> valid pixels in both
 };
 
+// The frame's truth of each actor id; `who` names the caller in the error for an id it lacks.
+class ActorIndex {
+ public:
+  ActorIndex(const core::FrameTruth& truth, const char* who) : who_(who) {
+    for (const core::ActorTruth& a : truth.actors) actors_[a.id] = &a;
+  }
+  const core::ActorTruth& operator[](std::uint32_t id) const {
+    const auto it = actors_.find(id);
+    FMCW_CHECK_ARG(it != actors_.end(), who_, ": pixels hit actor ", id, " but the frame's truth lists no such actor");
+    return *it->second;
+  }
+
+ private:
+  std::map<std::uint32_t, const core::ActorTruth*> actors_;
+  const char* who_;
+};
+
 /// `who` names the caller in the error when sizes disagree.
 inline PointOverlaps point_overlaps(const core::PixelGroundTruth& gt, const std::vector<std::uint8_t>& valid,
                                     const std::vector<std::int32_t>& labels, const char* who) {

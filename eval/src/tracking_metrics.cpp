@@ -30,18 +30,11 @@ TrackingFrame tracking_frame(std::size_t frame_index, const core::PixelGroundTru
                              const std::vector<std::uint8_t>& valid, const core::FrameTruth& truth,
                              const core::MotionEstimate& estimate, int min_moving_pixels) {
   const PointOverlaps po = point_overlaps(gt, valid, estimate.labels, "tracking_frame");
-  std::map<std::uint32_t, const core::ActorTruth*> actor_truth;
-  for (const core::ActorTruth& a : truth.actors) actor_truth[a.id] = &a;
-  const auto truth_of = [&](std::uint32_t id) -> const core::ActorTruth& {
-    const auto it = actor_truth.find(id);
-    FMCW_CHECK_ARG(it != actor_truth.end(), "tracking_frame: pixels hit actor ", id,
-                   " but the frame's truth lists no such actor");
-    return *it->second;
-  };
+  const ActorIndex truth_of(truth, "tracking_frame");
   TrackingFrame f;
   std::map<std::uint32_t, int> truth_index;
   for (const auto& [id, counts] : po.actors) {
-    const core::ActorTruth& a = truth_of(id);
+    const core::ActorTruth& a = truth_of[id];
     if (counts.moving < min_moving_pixels) continue;
     truth_index[id] = static_cast<int>(f.truths.size());
     f.truths.push_back({id, a.class_name, counts.pixels, a.box.center_m});
@@ -71,7 +64,7 @@ TrackingFrame tracking_frame(std::size_t frame_index, const core::PixelGroundTru
   }
   for (const auto& [label, b] : best) {
     const int off_actor = po.clusters.at(label) - po.on_actors.at(label);
-    if (b.first > off_actor) f.tracks[static_cast<std::size_t>(track_index.at(label))].class_name = truth_of(b.second).class_name;
+    if (b.first > off_actor) f.tracks[static_cast<std::size_t>(track_index.at(label))].class_name = truth_of[b.second].class_name;
   }
   return f;
 }

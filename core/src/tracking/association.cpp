@@ -144,7 +144,7 @@ int holding_box(const Eigen::Vector2d& q, const std::vector<Track>& tracks, cons
                 const TrackerParams& p, bool vehicles_only) {
   int holder = -1;
   double best = std::numeric_limits<double>::infinity();
-  for (std::size_t t = 0; t < tracks.size(); ++t) {
+  for (std::size_t t = 0; t < boxes.size(); ++t) {  // tracks without a box yet are not holders
     if (vehicles_only && !(tracks[t].confirmed && tracks[t].vehicle(p))) continue;
     if (!boxes[t].contains(q, p.claims.claim_margin_m)) continue;
     const double d = boxes[t].distance(q) + 1e-3 * (q - boxes[t].centre).norm();
@@ -239,9 +239,8 @@ Association associate(const Frame& frame, const std::vector<std::vector<std::uin
   return a;
 }
 
-void merge_nested_tracks(const Frame& frame, std::vector<Track>& tracks, const std::vector<Box>& boxes,
-                         const TrackerParams& p, Association& a, std::vector<Group>& groups) {
-  (void)frame;
+void merge_nested_tracks(std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p,
+                         Association& a, std::vector<Group>& groups) {
   for (std::size_t t = 0; t < tracks.size(); ++t) {
     if (groups[t].clusters.empty()) continue;
     const int u = holding_box(boxes[t].centre, tracks, boxes, p, true);
@@ -260,9 +259,8 @@ void merge_nested_tracks(const Frame& frame, std::vector<Track>& tracks, const s
   }
 }
 
-int inside_vehicle(const Frame& frame, const ClusterEstimate& ce, const std::vector<Track>& tracks, const TrackerParams& p) {
-  std::vector<Box> boxes(tracks.size());
-  for (std::size_t t = 0; t < tracks.size(); ++t) boxes[t] = box_of(tracks[t]);
+int inside_vehicle(const Frame& frame, const ClusterEstimate& ce, const std::vector<Track>& tracks,
+                   const std::vector<Box>& boxes, const TrackerParams& p) {
   return holding_box(frame.world_xy(ce.centroid_m), tracks, boxes, p, true);
 }
 

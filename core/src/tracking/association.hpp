@@ -45,12 +45,15 @@ Association associate(const Frame& frame, const std::vector<std::vector<std::uin
 /// claim_margin_m) follows a piece of that vehicle (it was born from a wheel or a part seen
 /// apart): its clusters go under the vehicle's label, unmeasured, and the track ends this frame.
 /// Two confirmed vehicles are left alone (split_shared_clusters parts them).
-void merge_nested_tracks(const Frame& frame, std::vector<Track>& tracks, const std::vector<Box>& boxes,
-                         const TrackerParams& p, Association& a, std::vector<Group>& groups);
+void merge_nested_tracks(std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p,
+                         Association& a, std::vector<Group>& groups);
 
 /// The confirmed vehicle track whose box (grown by claim_margin_m) holds the cluster's centroid,
 /// or -1: a cluster there that no track took is a piece of that vehicle (a wheel, a mirror, a
 /// part whose Doppler the track does not explain), not a new object.
-int inside_vehicle(const Frame& frame, const ClusterEstimate& ce, const std::vector<Track>& tracks, const TrackerParams& p);
+/// boxes[t] is box_of(tracks[t]) after this frame's measurement; tracks born this frame have
+/// none and hold nothing.
+int inside_vehicle(const Frame& frame, const ClusterEstimate& ce, const std::vector<Track>& tracks,
+                   const std::vector<Box>& boxes, const TrackerParams& p);
 
 }  // namespace fmcw::core::tracking
