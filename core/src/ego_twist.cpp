@@ -9,6 +9,7 @@
 #include "fmcw/core/check.hpp"
 #include "fmcw/core/random.hpp"
 #include "ego_twist_beams.hpp"
+#include "vector_clones.hpp"
 
 namespace fmcw::core {
 
@@ -18,17 +19,29 @@ constexpr int kCellCols = 24;  // coverage grid over the image
 constexpr int kCellRows = 6;
 
 void gather_rows(const Scan& scan, const ScanBeams& beams, TwistRows& rows) {
-  rows.clear();
+  const std::size_t cols = static_cast<std::size_t>(scan.cols);
+  // Per column: the yaw-rate lever (o_x, o_y) and the grid column.
+  std::vector<double> ox(cols), oy(cols);
+  std::vector<std::uint16_t> cell_col(cols);
+  for (std::size_t c = 0; c < cols; ++c) {
+    ox[c] = beams.origin[c].x();
+    oy[c] = beams.origin[c].y();
+    cell_col[c] = static_cast<std::uint16_t>(static_cast<int>(c) * kCellCols / scan.cols);
+  }
+  std::size_t n = 0;
+  for (const std::uint8_t v : scan.valid) n += v != 0 ? 1 : 0;
+  rows.resize(n);
+  std::size_t k = 0;
   for (int r = 0; r < scan.rows; ++r) {
-    const int cell_row = (r * kCellRows / scan.rows) * kCellCols;
-    for (int c = 0; c < scan.cols; ++c) {
-      const std::size_t i = scan.index(r, c);
+    const auto cell_row = static_cast<std::uint16_t>((r * kCellRows / scan.rows) * kCellCols);
+    const std::size_t first = scan.index(r, 0);
+    for (std::size_t c = 0; c < cols; ++c) {
+      const std::size_t i = first + c;
       if (!scan.valid[i]) continue;
-      const Eigen::Vector3d& o = beams.origin[static_cast<std::size_t>(c)];
       const Eigen::Vector3d& e = beams.e[i];
       // Yaw rate term: e . (omega_z z x o) = omega_z (o_x e_y - o_y e_x).
-      rows.push_back(e.x(), e.y(), e.z(), o.x() * e.y() - o.y() * e.x(), scan.radial_velocity_mps[i],
-                     static_cast<std::uint16_t>(cell_row + c * kCellCols / scan.cols));
+      rows.set(k++, e.x(), e.y(), e.z(), ox[c] * e.y() - oy[c] * e.x(), scan.radial_velocity_mps[i],
+               static_cast<std::uint16_t>(cell_row + cell_col[c]));
     }
   }
 }
@@ -52,6 +65,35 @@ struct Score {
   }
 };
 
+// The squared residuals of twist p into out, their truncated sum and the inlier count, point k in
+// lane k % kLanes (vector_clones.hpp).
+FMCW_VECTOR_CLONES void truncated_sums(const TwistRows& sub, const double (&p)[4], double t2, double* out, double& cost,
+                                       double& inliers) {
+  const std::size_t n = sub.size();
+  const double *ex = sub.ex.data(), *ey = sub.ey.data(), *ez = sub.ez.data(), *ew = sub.ew.data(), *v = sub.v.data();
+  const double p0 = p[0], p1 = p[1], p2 = p[2], p3 = p[3];
+  double lane_cost[kLanes] = {}, lane_inliers[kLanes] = {};
+  const auto row = [&](std::size_t k, int j) {
+    const double res = v[k] + ex[k] * p0 + ey[k] * p1 + ez[k] * p2 + ew[k] * p3;
+    const double q = res * res;
+    out[k] = q;
+    const bool inlier = q < t2;
+    lane_inliers[j] += inlier ? 1.0 : 0.0;  // counted in doubles: one vector type for the loop
+    lane_cost[j] += inlier ? q : t2;
+  };
+  std::size_t i = 0;
+  for (; i + kLanes <= n; i += kLanes) {
+    for (int j = 0; j < kLanes; ++j) row(i + static_cast<std::size_t>(j), j);
+  }
+  for (int j = 0; i < n; ++i, ++j) row(i, j);
+  cost = 0.0;
+  inliers = 0.0;
+  for (int j = 0; j < kLanes; ++j) {
+    cost += lane_cost[j];
+    inliers += lane_inliers[j];
+  }
+}
+
 // Squared residuals of twist p, then the truncated cost and the inliers per cell.
 Score score(const TwistRows& sub, const std::vector<int>& column_points, const Eigen::Vector4d& p, double threshold,
             std::vector<double>& r2) {
@@ -59,19 +101,11 @@ Score score(const TwistRows& sub, const std::vector<int>& column_points, const E
   const double t2 = threshold * threshold;
   const std::size_t n = sub.size();
   r2.resize(n);
-  const double p0 = p(0), p1 = p(1), p2 = p(2), p3 = p(3);
-  const double *ex = sub.ex.data(), *ey = sub.ey.data(), *ez = sub.ez.data(), *ew = sub.ew.data(), *v = sub.v.data();
   double* out = r2.data();
+  const double pv[4] = {p(0), p(1), p(2), p(3)};
   double cost = 0.0;
-  double inliers = 0.0;  // counted in doubles: one vector type for the whole loop
-#pragma omp simd reduction(+ : cost, inliers)
-  for (std::size_t k = 0; k < n; ++k) {
-    const double res = v[k] + ex[k] * p0 + ey[k] * p1 + ez[k] * p2 + ew[k] * p3;
-    const double q = res * res;
-    out[k] = q;
-    inliers += q < t2 ? 1.0 : 0.0;
-    cost += q < t2 ? q : t2;
-  }
+  double inliers = 0.0;
+  truncated_sums(sub, pv, t2, out, cost, inliers);
   s.inliers = static_cast<int>(inliers);
   s.cost = cost;
   std::array<int, kCellCols * kCellRows> per_cell{};
@@ -124,7 +158,7 @@ namespace {
 
 // One pass of Huber-weighted least squares over the inliers of twist p:
 // the normal equations N = sum w a a^T, g = -sum w v a, with k = infinity plain least squares on
-// the inliers. The sums run in two lanes (their order is fixed, so results are reproducible).
+// the inliers. The sums run in kLanes lanes (their order is fixed, so results are reproducible).
 struct HuberSums {
   Eigen::Matrix4d N = Eigen::Matrix4d::Zero();
   Eigen::Vector4d g = Eigen::Vector4d::Zero();
@@ -133,46 +167,62 @@ struct HuberSums {
   int inliers = 0;
 };
 
-HuberSums huber_pass(const TwistRows& rows, const Eigen::Vector4d& p, double threshold, double k) {
+// Adds row q's terms to lane j of the sums (acc[term][lane]).
+inline void huber_row(const TwistRows& rows, std::size_t q, int j, const double (&p)[4], double threshold, double k,
+                      double (&acc)[17][kLanes]) {
+  const double a0 = rows.ex[q], a1 = rows.ey[q], a2 = rows.ez[q], a3 = rows.ew[q];
+  const double res = rows.v[q] + a0 * p[0] + a1 * p[1] + a2 * p[2] + a3 * p[3];
+  const double ares = std::abs(res);
+  const double huber = std::min(1.0, k / ares);  // 1 within k (also for k = infinity)
+  const double w = ares < threshold ? huber : 0.0;
+  const double t0 = w * a0, t1 = w * a1, t2 = w * a2, t3 = w * a3;
+  acc[0][j] += t0 * a0;
+  acc[1][j] += t0 * a1;
+  acc[2][j] += t0 * a2;
+  acc[3][j] += t0 * a3;
+  acc[4][j] += t1 * a1;
+  acc[5][j] += t1 * a2;
+  acc[6][j] += t1 * a3;
+  acc[7][j] += t2 * a2;
+  acc[8][j] += t2 * a3;
+  acc[9][j] += t3 * a3;
+  const double wv = w * rows.v[q];
+  acc[10][j] -= wv * a0;
+  acc[11][j] -= wv * a1;
+  acc[12][j] -= wv * a2;
+  acc[13][j] -= wv * a3;
+  acc[14][j] += w * res * res;
+  acc[15][j] += w;
+  acc[16][j] += ares < threshold ? 1.0 : 0.0;  // counted in doubles: one vector type for the loop
+}
+
+// The seventeen sums of a Huber pass, point k in lane k % kLanes (vector_clones.hpp).
+FMCW_VECTOR_CLONES void huber_sums(const TwistRows& rows, const double (&p)[4], double threshold, double k,
+                                   double (&out)[17]) {
+  double acc[17][kLanes] = {};
   const std::size_t count = rows.size();
-  const double p0 = p(0), p1 = p(1), p2 = p(2), p3 = p(3);
-  const double *ex = rows.ex.data(), *ey = rows.ey.data(), *ez = rows.ez.data(), *ew = rows.ew.data(), *v = rows.v.data();
-  double n00 = 0, n01 = 0, n02 = 0, n03 = 0, n11 = 0, n12 = 0, n13 = 0, n22 = 0, n23 = 0, n33 = 0;
-  double g0 = 0, g1 = 0, g2 = 0, g3 = 0, rss = 0, weight_sum = 0;
-  double inliers = 0;  // counted in doubles: one vector type for the whole loop
-#pragma omp simd reduction(+ : n00, n01, n02, n03, n11, n12, n13, n22, n23, n33, g0, g1, g2, g3, rss, weight_sum, inliers)
-  for (std::size_t i = 0; i < count; ++i) {
-    const double a0 = ex[i], a1 = ey[i], a2 = ez[i], a3 = ew[i];
-    const double res = v[i] + a0 * p0 + a1 * p1 + a2 * p2 + a3 * p3;
-    const double ares = std::abs(res);
-    const double huber = std::min(1.0, k / ares);  // 1 within k (also for k = infinity)
-    const double w = ares < threshold ? huber : 0.0;
-    const double t0 = w * a0, t1 = w * a1, t2 = w * a2, t3 = w * a3;
-    n00 += t0 * a0;
-    n01 += t0 * a1;
-    n02 += t0 * a2;
-    n03 += t0 * a3;
-    n11 += t1 * a1;
-    n12 += t1 * a2;
-    n13 += t1 * a3;
-    n22 += t2 * a2;
-    n23 += t2 * a3;
-    n33 += t3 * a3;
-    const double wv = w * v[i];
-    g0 -= wv * a0;
-    g1 -= wv * a1;
-    g2 -= wv * a2;
-    g3 -= wv * a3;
-    rss += w * res * res;
-    weight_sum += w;
-    inliers += ares < threshold ? 1.0 : 0.0;
+  std::size_t i = 0;
+  for (; i + kLanes <= count; i += kLanes) {
+    for (int j = 0; j < kLanes; ++j) huber_row(rows, i + static_cast<std::size_t>(j), j, p, threshold, k, acc);
   }
+  for (int j = 0; i < count; ++i, ++j) huber_row(rows, i, j, p, threshold, k, acc);
+  for (int t = 0; t < 17; ++t) {
+    double sum = 0.0;
+    for (int j = 0; j < kLanes; ++j) sum += acc[t][j];
+    out[t] = sum;
+  }
+}
+
+HuberSums huber_pass(const TwistRows& rows, const Eigen::Vector4d& p, double threshold, double k) {
+  const double pv[4] = {p(0), p(1), p(2), p(3)};
+  double s[17];
+  huber_sums(rows, pv, threshold, k, s);
   HuberSums out;
-  out.N << n00, n01, n02, n03, n01, n11, n12, n13, n02, n12, n22, n23, n03, n13, n23, n33;
-  out.g << g0, g1, g2, g3;
-  out.rss = rss;
-  out.weight_sum = weight_sum;
-  out.inliers = static_cast<int>(inliers);
+  out.N << s[0], s[1], s[2], s[3], s[1], s[4], s[5], s[6], s[2], s[5], s[7], s[8], s[3], s[6], s[8], s[9];
+  out.g << s[10], s[11], s[12], s[13];
+  out.rss = s[14];
+  out.weight_sum = s[15];
+  out.inliers = static_cast<int>(s[16]);
   return out;
 }
 

@@ -21,6 +21,18 @@ struct TwistRows {
     for (auto* c : {&ex, &ey, &ez, &ew, &v}) c->clear();
     cell.clear();
   }
+  void resize(std::size_t n) {
+    for (auto* c : {&ex, &ey, &ez, &ew, &v}) c->resize(n);
+    cell.resize(n);
+  }
+  void set(std::size_t k, double x, double y, double z, double w, double target, std::uint16_t c) {
+    ex[k] = x;
+    ey[k] = y;
+    ez[k] = z;
+    ew[k] = w;
+    v[k] = target;
+    cell[k] = c;
+  }
   void push_back(double x, double y, double z, double w, double target, std::uint16_t c) {
     ex.push_back(x);
     ey.push_back(y);

@@ -42,9 +42,21 @@ bool is_occlusion_edge(const Scan& scan, const std::vector<int>& group_of, int r
 Segmentation label_moving_instances(const Scan& scan, const std::vector<std::uint8_t>& moving, const InstanceParams& params) {
   FMCW_CHECK_ARG(moving.size() == scan.size(), "instances: moving mask has ", moving.size(), " values, expected ", scan.size());
   Segmentation out;
-  out.labels.assign(scan.size(), Segmentation::kInvalid);
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (scan.valid[i]) out.labels[i] = Segmentation::kStatic;
+  // Labels: invalid or static; regions: pending for the moving pixels, which are listed.
+  constexpr std::int32_t kPending = -3;
+  const std::size_t n = scan.size();
+  out.labels.resize(n);
+  std::vector<std::int32_t> region(n);
+  std::size_t valid_pixels = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool valid = scan.valid[i] != 0;
+    out.labels[i] = valid ? Segmentation::kStatic : Segmentation::kInvalid;
+    region[i] = valid && moving[i] != 0 ? kPending : -1;
+    valid_pixels += valid ? 1 : 0;
+  }
+  std::vector<std::uint32_t> pending;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (region[i] == kPending) pending.push_back(static_cast<std::uint32_t>(i));
   }
   // Column group of each column, for neighbours across stitched seams only.
   const std::vector<int> group_of = scan.column_group_of();
@@ -58,15 +70,11 @@ Segmentation label_moving_instances(const Scan& scan, const std::vector<std::uin
       return false;
     return !is_occlusion_edge(scan, group_of, r, c, dr, dc, params);
   };
-  constexpr std::int32_t kPending = -3;
-  std::vector<std::int32_t> region(scan.size(), -1);
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (scan.valid[i] && moving[i]) region[i] = kPending;
-  }
   std::vector<std::uint32_t> members;
   std::vector<std::uint32_t> stack;
   std::int32_t next = 0;
-  for (std::size_t seed = 0; seed < scan.size(); ++seed) {
+  std::size_t labelled = 0;
+  for (const std::uint32_t seed : pending) {
     if (region[seed] != kPending) continue;
     members.clear();
     stack.assign(1, static_cast<std::uint32_t>(seed));
@@ -88,9 +96,10 @@ Segmentation label_moving_instances(const Scan& scan, const std::vector<std::uin
     out.cluster_sizes.push_back(static_cast<std::uint32_t>(members.size()));
     const auto label = static_cast<std::int32_t>(out.cluster_sizes.size());
     for (const std::uint32_t m : members) out.labels[m] = label;
+    labelled += members.size();
   }
   out.num_regions = static_cast<std::uint32_t>(next) + 1;
-  for (const auto l : out.labels) out.static_pixels += l == Segmentation::kStatic ? 1u : 0u;
+  out.static_pixels = static_cast<decltype(out.static_pixels)>(valid_pixels - labelled);
   return out;
 }
 

@@ -10,6 +10,7 @@
 #include "label_renumbering.hpp"
 #include "pipeline_internal.hpp"
 #include "pipeline_workspace.hpp"
+#include "vector_clones.hpp"
 
 namespace fmcw::core {
 
@@ -58,23 +59,43 @@ bool merge_fragments(const Scan& scan, const std::vector<VelocityRows>& rows, co
 
 
 
-// Per pixel: 1 where the Doppler, compensated by the velocity of its head's origin, exceeds
-// moving_sigma standard deviations (sensor noise and the twist's uncertainty along the beam).
+// Per pixel of one image row: 1 where the Doppler, compensated by the velocity of its head's
+// origin (hx, hy, hz per column), exceeds ms2 = moving_sigma^2 variances, the variance being the
+// sensor's sigma2 and the twist's covariance c (row-major) along the beam. The sums run in the
+// order Eigen's e.dot(h) and e.dot(cov * e) take (the results are the same bit for bit).
+FMCW_VECTOR_CLONES void moving_row(std::size_t cols, const std::uint8_t* valid, const float* v, const double* e,
+                                   const double* hx, const double* hy, const double* hz, const double (&c)[9],
+                                   double sigma2, double ms2, std::uint8_t* moving) {
+  for (std::size_t k = 0; k < cols; ++k) {
+    const double e0 = e[3 * k], e1 = e[3 * k + 1], e2 = e[3 * k + 2];
+    const double residual = static_cast<double>(v[k]) + ((e0 * hx[k] + e1 * hy[k]) + e2 * hz[k]);
+    const double c0 = c[0] * e0 + c[1] * e1 + c[2] * e2;
+    const double c1 = c[3] * e0 + c[4] * e1 + c[5] * e2;
+    const double c2 = c[6] * e0 + (c[7] * e1 + c[8] * e2);
+    const double var = sigma2 + ((e0 * c0 + e1 * c1) + e2 * c2);
+    moving[k] = (valid[k] != 0) & (residual * residual > ms2 * var) ? 1 : 0;
+  }
+}
+
 std::vector<std::uint8_t> moving_mask(const Scan& scan, const ScanBeams& beams, const std::vector<Eigen::Vector3d>& head_velocity,
                                       const EgoTwistEstimate& twist, const MotionPipelineParams& params) {
   std::vector<std::uint8_t> moving(scan.size(), 0);
-  if (!twist.valid) return moving;
+  if (!twist.valid || scan.size() == 0) return moving;
   const Eigen::Matrix3d cov = twist.velocity.covariance.allFinite() ? twist.velocity.covariance : Eigen::Matrix3d::Zero();
+  const double c[9] = {cov(0, 0), cov(0, 1), cov(0, 2), cov(1, 0), cov(1, 1), cov(1, 2), cov(2, 0), cov(2, 1), cov(2, 2)};
   const double sigma2 = params.ego.noise_sigma_mps * params.ego.noise_sigma_mps;
+  const double ms2 = params.moving_sigma * params.moving_sigma;
+  const std::size_t cols = static_cast<std::size_t>(scan.cols);
+  std::vector<double> hx(cols), hy(cols), hz(cols);
+  for (std::size_t k = 0; k < cols; ++k) {
+    hx[k] = head_velocity[k].x();
+    hy[k] = head_velocity[k].y();
+    hz[k] = head_velocity[k].z();
+  }
   for (int r = 0; r < scan.rows; ++r) {
-    for (int c = 0; c < scan.cols; ++c) {
-      const std::size_t i = scan.index(r, c);
-      if (!scan.valid[i]) continue;
-      const Eigen::Vector3d& e = beams.e[i];
-      const double residual = scan.radial_velocity_mps[i] + e.dot(head_velocity[static_cast<std::size_t>(c)]);
-      const double var = sigma2 + e.dot(cov * e);
-      moving[i] = residual * residual > params.moving_sigma * params.moving_sigma * var ? 1 : 0;
-    }
+    const std::size_t first = scan.index(r, 0);
+    moving_row(cols, scan.valid.data() + first, scan.radial_velocity_mps.data() + first, beams.e[first].data(), hx.data(),
+               hy.data(), hz.data(), c, sigma2, ms2, moving.data() + first);
   }
   return moving;
 }
@@ -88,16 +109,27 @@ struct Instances {
 
 void solve_all(const Scan& scan, const ScanBeams& beams, const std::vector<Eigen::Vector3d>& head_velocity, bool with_ego,
                int k, const MotionPipelineParams& params, const std::vector<std::int32_t>& labels, Instances& in) {
-  in.rows.assign(static_cast<std::size_t>(k), VelocityRows{});
+  in.rows.resize(static_cast<std::size_t>(k));
   in.centroid.assign(static_cast<std::size_t>(k), Eigen::Vector3d::Zero());
   in.velocity.assign(static_cast<std::size_t>(k), VelocityEstimate{});
+  // Each instance's pixels in image order: counted first, then written in place.
+  std::vector<std::size_t> fill(static_cast<std::size_t>(k), 0);
+  for (const std::int32_t l : labels) {
+    if (l > 0) ++fill[static_cast<std::size_t>(l - 1)];
+  }
+  for (std::size_t c = 0; c < fill.size(); ++c) {
+    in.rows[c].directions.resize(fill[c]);
+    in.rows[c].targets_mps.resize(fill[c]);
+    fill[c] = 0;
+  }
   for (std::size_t i = 0; i < labels.size(); ++i) {
     const std::int32_t l = labels[i];
     if (l <= 0) continue;
     const Eigen::Vector3d& e = beams.e[i];
     VelocityRows& rw = in.rows[static_cast<std::size_t>(l - 1)];
-    rw.directions.push_back(e);
-    rw.targets_mps.push_back(scan.radial_velocity_mps[i] + e.dot(head_velocity[i % beams.cols]));
+    const std::size_t q = fill[static_cast<std::size_t>(l - 1)]++;
+    rw.directions[q] = e;
+    rw.targets_mps[q] = scan.radial_velocity_mps[i] + e.dot(head_velocity[i % beams.cols]);
     in.centroid[static_cast<std::size_t>(l - 1)] += scan.position(i);
   }
   if (!with_ego) return;

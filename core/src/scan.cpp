@@ -1,10 +1,40 @@
 #include "fmcw/core/scan.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include "fmcw/core/check.hpp"
+#include "vector_clones.hpp"
 
 namespace fmcw::core {
+
+namespace {
+
+// Finite: the exponent bits are not all set (NaN and Inf have them all set). Integer tests, so
+// that the pass runs as vector code.
+inline std::uint32_t finite_bit(float x) {
+  std::uint32_t bits = 0;
+  std::memcpy(&bits, &x, sizeof bits);
+  return (bits & 0x7f800000u) != 0x7f800000u ? 1u : 0u;
+}
+
+// Whether every valid pixel holds finite values and a positive range: one branch-free pass.
+FMCW_VECTOR_CLONES bool valid_pixels_finite(const Scan& scan) {
+  const std::size_t n = scan.size();
+  const float *x = scan.x_m.data(), *y = scan.y_m.data(), *z = scan.z_m.data(), *v = scan.radial_velocity_mps.data();
+  const float *in = scan.intensity.data(), *range = scan.range_m.data();
+  const std::uint8_t* valid = scan.valid.data();
+  std::uint32_t all_good = 1;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t good = finite_bit(x[i]) & finite_bit(y[i]) & finite_bit(z[i]) & finite_bit(v[i]) & finite_bit(in[i]) &
+                               finite_bit(range[i]) & (range[i] > 0.0f ? 1u : 0u);
+    all_good &= good | (valid[i] == 0 ? 1u : 0u);
+  }
+  return all_good != 0;
+}
+
+}  // namespace
 
 const char* to_string(VelocityFrame frame) {
   return frame == VelocityFrame::kSensor ? "sensor" : "ego_compensated";
@@ -114,17 +144,8 @@ void Scan::validate_layout() const {
 
 void Scan::validate() const {
   validate_layout();
-  const std::size_t n = size();
   // One branch-free pass; the slow search for the pixel to name runs only on failure.
-  bool all_good = true;
-  for (std::size_t i = 0; i < n; ++i) {
-    // int operands: bitwise on purpose (no short-circuit branches), which clang accepts for ints.
-    const int finite = int{std::isfinite(x_m[i])} & int{std::isfinite(y_m[i])} & int{std::isfinite(z_m[i])} &
-                       int{std::isfinite(radial_velocity_mps[i])} & int{std::isfinite(intensity[i])} &
-                       int{std::isfinite(range_m[i])} & int{range_m[i] > 0.0f};
-    all_good &= (finite | int{valid[i] == 0}) != 0;
-  }
-  if (all_good) return;
+  if (valid_pixels_finite(*this)) return;
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
       const std::size_t i = index(r, c);
