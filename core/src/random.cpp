@@ -1,6 +1,7 @@
 #include "fmcw/core/random.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 
@@ -111,18 +112,66 @@ double Rng::normal_slow(std::uint64_t bits) {
   }
 }
 
+namespace {
+
+// The slots of [0, n) that a partial Fisher-Yates shuffle has touched, in an open-addressing
+// table: an untouched slot x holds x. The swaps write at most 2k slots, so a table of 4k or more
+// entries never fills, and the shuffle costs O(k) instead of O(n).
+class SparseShuffle {
+ public:
+  explicit SparseShuffle(std::uint32_t k) {
+    std::size_t size = 16;
+    while (size < 4 * static_cast<std::size_t>(k)) size *= 2;
+    keys_.assign(size, kEmpty);
+    values_.resize(size);
+  }
+  std::uint32_t& at(std::uint32_t x) {
+    std::size_t h = (static_cast<std::size_t>(x) * 0x9E3779B1u) & (keys_.size() - 1);
+    while (keys_[h] != kEmpty && keys_[h] != x) h = (h + 1) & (keys_.size() - 1);
+    if (keys_[h] == kEmpty) {
+      keys_[h] = x;
+      values_[h] = x;
+    }
+    return values_[h];
+  }
+
+ private:
+  static constexpr std::uint32_t kEmpty = 0xFFFFFFFFu;
+  std::vector<std::uint32_t> keys_, values_;
+};
+
+// Ascending order of values below 2^32: three stable 11-bit radix passes.
+void radix_sort(std::vector<std::uint32_t>& v) {
+  std::vector<std::uint32_t> tmp(v.size());
+  for (int shift = 0; shift < 33; shift += 11) {
+    std::array<std::size_t, 2049> start{};
+    for (const std::uint32_t x : v) ++start[((x >> shift) & 0x7FFu) + 1];
+    for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
+    for (const std::uint32_t x : v) tmp[start[(x >> shift) & 0x7FFu]++] = x;
+    v.swap(tmp);
+  }
+}
+
+}  // namespace
+
 std::vector<std::uint32_t> subsample_indices(std::uint32_t n, std::uint32_t k, std::uint64_t seed) {
-  std::vector<std::uint32_t> idx(n);
-  std::iota(idx.begin(), idx.end(), 0u);
-  if (k == 0 || k >= n) return idx;
+  if (k == 0 || k >= n) {
+    std::vector<std::uint32_t> idx(n);
+    std::iota(idx.begin(), idx.end(), 0u);
+    return idx;
+  }
   // Partial Fisher-Yates: the first k slots end up a uniform sample without replacement.
   Rng rng(seed);
+  SparseShuffle slots(k);
+  std::vector<std::uint32_t> idx(k);
   for (std::uint32_t i = 0; i < k; ++i) {
     const auto j = i + static_cast<std::uint32_t>(rng.uniform_below(n - i));
-    std::swap(idx[i], idx[j]);
+    std::uint32_t& a = slots.at(i);
+    std::uint32_t& b = slots.at(j);
+    std::swap(a, b);
+    idx[i] = a;
   }
-  idx.resize(k);
-  std::sort(idx.begin(), idx.end());
+  radix_sort(idx);
   return idx;
 }
 

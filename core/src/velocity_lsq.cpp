@@ -125,14 +125,21 @@ VelocityEstimate fit_planar(const VelocityRows& rows, Eigen::Matrix2d& N) {
   est.num_points = static_cast<int>(rows.size());
   N.setZero();
   if (rows.size() < 2) return est;
-  Eigen::Vector2d g = Eigen::Vector2d::Zero();
-  double yty = 0.0;
+  // Sums in scalars (registers, not the matrices in memory), entry by entry as Eigen's a a^T
+  // and t a would add them.
+  double n00 = 0.0, n01 = 0.0, n10 = 0.0, n11 = 0.0, g0 = 0.0, g1 = 0.0, yty = 0.0;
   for (std::size_t k = 0; k < rows.size(); ++k) {
-    const Eigen::Vector2d a = rows.directions[k].head<2>();
-    N.noalias() += a * a.transpose();
-    g += rows.targets_mps[k] * a;
-    yty += rows.targets_mps[k] * rows.targets_mps[k];
+    const double a0 = rows.directions[k].x(), a1 = rows.directions[k].y(), t = rows.targets_mps[k];
+    n00 += a0 * a0;
+    n10 += a1 * a0;
+    n01 += a0 * a1;
+    n11 += a1 * a1;
+    g0 += t * a0;
+    g1 += t * a1;
+    yty += t * t;
   }
+  N << n00, n01, n10, n11;
+  const Eigen::Vector2d g(g0, g1);
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(N);
   const double lmin = eig.eigenvalues()(0);
   est.information_eigenvalues = Eigen::Vector3d(0.0, eig.eigenvalues()(0), eig.eigenvalues()(1));
@@ -167,16 +174,22 @@ VelocityEstimate solve_velocity_planar_robust(const VelocityRows& rows, double n
     // Tukey's biweight with c = 4.685 robust standard deviations (1.4826 MAD).
     const double scale = robust_scale(residual, noise_sigma_mps, scratch);
     const double c = 4.685 * scale;
-    N.setZero();
-    Eigen::Vector2d g = Eigen::Vector2d::Zero();
+    double n00 = 0.0, n01 = 0.0, n10 = 0.0, n11 = 0.0, g0 = 0.0, g1 = 0.0;  // as in fit_planar
     for (std::size_t k = 0; k < n; ++k) {
       const double u = residual[k] / c;
       if (std::abs(u) >= 1.0) continue;
       const double w = (1.0 - u * u) * (1.0 - u * u);
-      const Eigen::Vector2d a = rows.directions[k].head<2>();
-      N.noalias() += w * a * a.transpose();
-      g += w * rows.targets_mps[k] * a;
+      const double a0 = rows.directions[k].x(), a1 = rows.directions[k].y();
+      const double wa0 = w * a0, wa1 = w * a1, wt = w * rows.targets_mps[k];
+      n00 += wa0 * a0;
+      n10 += wa1 * a0;
+      n01 += wa0 * a1;
+      n11 += wa1 * a1;
+      g0 += wt * a0;
+      g1 += wt * a1;
     }
+    N << n00, n01, n10, n11;
+    const Eigen::Vector2d g(g0, g1);
     const Eigen::Vector2d next = N.ldlt().solve(g);
     if (!next.allFinite() || N.determinant() <= 0.0) break;
     const bool converged = (next - v).norm() < 1e-6;

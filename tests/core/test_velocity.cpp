@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "fmcw/core/ceres_velocity.hpp"
@@ -98,6 +99,24 @@ TEST(Subsample, IsSeededAndWithoutReplacement) {
   for (std::size_t k = 1; k < a.size(); ++k) EXPECT_LT(a[k - 1], a[k]);
   EXPECT_EQ(subsample_indices(10, 0, 1).size(), 10u);
   EXPECT_EQ(subsample_indices(10, 20, 1).size(), 10u);
+}
+
+// The sparse shuffle draws exactly the sample of a partial Fisher-Yates over the whole index
+// array (the definition), for small and large n, k near n and k = 1.
+TEST(Subsample, EqualsTheDenseFisherYatesShuffle) {
+  const std::uint32_t cases[][2] = {{10, 1}, {10, 9}, {1000, 200}, {1000, 999}, {90000, 3000}, {70000, 1000}};
+  for (const auto& nk : cases) {
+    for (std::uint64_t seed : {1u, 42u, 7777u}) {
+      const std::uint32_t n = nk[0], k = nk[1];
+      std::vector<std::uint32_t> dense(n);
+      for (std::uint32_t i = 0; i < n; ++i) dense[i] = i;
+      Rng rng(seed);
+      for (std::uint32_t i = 0; i < k; ++i) std::swap(dense[i], dense[i + static_cast<std::uint32_t>(rng.uniform_below(n - i))]);
+      dense.resize(k);
+      std::sort(dense.begin(), dense.end());
+      EXPECT_EQ(subsample_indices(n, k, seed), dense) << "n " << n << " k " << k << " seed " << seed;
+    }
+  }
 }
 
 TEST(Rng, NormalMatchesTheStandardNormalAndIsReproducible) {
