@@ -120,26 +120,37 @@ VelocityEstimate solve_normal_equations(const NormalEquations& ne, double qr_con
 namespace {
 // solve_velocity_planar, also handing back the rows' information N = sum a a^T (zero with fewer
 // than two rows), which the robust fit starts from.
+// The weighted sums of a planar fit, N = sum w a a^T and g = sum w t a, in scalars (registers,
+// not matrices in memory: a store-to-load chain per row) and entry by entry as Eigen's
+// (w a) a^T and (w t) a add them, N's two off-diagonal entries each their own sum.
+struct PlanarSums {
+  double n00 = 0.0, n01 = 0.0, n10 = 0.0, n11 = 0.0, g0 = 0.0, g1 = 0.0;
+  void add(double w, const Eigen::Vector3d& a, double t) {
+    const double wa0 = w * a.x(), wa1 = w * a.y(), wt = w * t;
+    n00 += wa0 * a.x();
+    n10 += wa1 * a.x();
+    n01 += wa0 * a.y();
+    n11 += wa1 * a.y();
+    g0 += wt * a.x();
+    g1 += wt * a.y();
+  }
+  Eigen::Matrix2d N() const { return (Eigen::Matrix2d() << n00, n01, n10, n11).finished(); }
+  Eigen::Vector2d g() const { return {g0, g1}; }
+};
+
 VelocityEstimate fit_planar(const VelocityRows& rows, Eigen::Matrix2d& N) {
   VelocityEstimate est;
   est.num_points = static_cast<int>(rows.size());
   N.setZero();
   if (rows.size() < 2) return est;
-  // Sums in scalars (registers, not the matrices in memory), entry by entry as Eigen's a a^T
-  // and t a would add them.
-  double n00 = 0.0, n01 = 0.0, n10 = 0.0, n11 = 0.0, g0 = 0.0, g1 = 0.0, yty = 0.0;
+  PlanarSums sums;
+  double yty = 0.0;
   for (std::size_t k = 0; k < rows.size(); ++k) {
-    const double a0 = rows.directions[k].x(), a1 = rows.directions[k].y(), t = rows.targets_mps[k];
-    n00 += a0 * a0;
-    n10 += a1 * a0;
-    n01 += a0 * a1;
-    n11 += a1 * a1;
-    g0 += t * a0;
-    g1 += t * a1;
-    yty += t * t;
+    sums.add(1.0, rows.directions[k], rows.targets_mps[k]);  // w = 1 multiplies exactly
+    yty += rows.targets_mps[k] * rows.targets_mps[k];
   }
-  N << n00, n01, n10, n11;
-  const Eigen::Vector2d g(g0, g1);
+  N = sums.N();
+  const Eigen::Vector2d g = sums.g();
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(N);
   const double lmin = eig.eigenvalues()(0);
   est.information_eigenvalues = Eigen::Vector3d(0.0, eig.eigenvalues()(0), eig.eigenvalues()(1));
@@ -174,22 +185,14 @@ VelocityEstimate solve_velocity_planar_robust(const VelocityRows& rows, double n
     // Tukey's biweight with c = 4.685 robust standard deviations (1.4826 MAD).
     const double scale = robust_scale(residual, noise_sigma_mps, scratch);
     const double c = 4.685 * scale;
-    double n00 = 0.0, n01 = 0.0, n10 = 0.0, n11 = 0.0, g0 = 0.0, g1 = 0.0;  // as in fit_planar
+    PlanarSums sums;
     for (std::size_t k = 0; k < n; ++k) {
       const double u = residual[k] / c;
       if (std::abs(u) >= 1.0) continue;
-      const double w = (1.0 - u * u) * (1.0 - u * u);
-      const double a0 = rows.directions[k].x(), a1 = rows.directions[k].y();
-      const double wa0 = w * a0, wa1 = w * a1, wt = w * rows.targets_mps[k];
-      n00 += wa0 * a0;
-      n10 += wa1 * a0;
-      n01 += wa0 * a1;
-      n11 += wa1 * a1;
-      g0 += wt * a0;
-      g1 += wt * a1;
+      sums.add((1.0 - u * u) * (1.0 - u * u), rows.directions[k], rows.targets_mps[k]);
     }
-    N << n00, n01, n10, n11;
-    const Eigen::Vector2d g(g0, g1);
+    N = sums.N();
+    const Eigen::Vector2d g = sums.g();
     const Eigen::Vector2d next = N.ldlt().solve(g);
     if (!next.allFinite() || N.determinant() <= 0.0) break;
     const bool converged = (next - v).norm() < 1e-6;
