@@ -107,24 +107,23 @@ struct Instances {
   std::vector<VelocityEstimate> velocity;
 };
 
+// labelled: the pixels with a positive label, ascending.
 void solve_all(const Scan& scan, const ScanBeams& beams, const std::vector<Eigen::Vector3d>& head_velocity, bool with_ego,
-               int k, const MotionPipelineParams& params, const std::vector<std::int32_t>& labels, Instances& in) {
+               int k, const MotionPipelineParams& params, const std::vector<std::int32_t>& labels,
+               const std::vector<std::uint32_t>& labelled, Instances& in) {
   in.rows.resize(static_cast<std::size_t>(k));
   in.centroid.assign(static_cast<std::size_t>(k), Eigen::Vector3d::Zero());
   in.velocity.assign(static_cast<std::size_t>(k), VelocityEstimate{});
   // Each instance's pixels in image order: counted first, then written in place.
   std::vector<std::size_t> fill(static_cast<std::size_t>(k), 0);
-  for (const std::int32_t l : labels) {
-    if (l > 0) ++fill[static_cast<std::size_t>(l - 1)];
-  }
+  for (const std::uint32_t i : labelled) ++fill[static_cast<std::size_t>(labels[i] - 1)];
   for (std::size_t c = 0; c < fill.size(); ++c) {
     in.rows[c].directions.resize(fill[c]);
     in.rows[c].targets_mps.resize(fill[c]);
     fill[c] = 0;
   }
-  for (std::size_t i = 0; i < labels.size(); ++i) {
+  for (const std::uint32_t i : labelled) {
     const std::int32_t l = labels[i];
-    if (l <= 0) continue;
     const Eigen::Vector3d& e = beams.e[i];
     VelocityRows& rw = in.rows[static_cast<std::size_t>(l - 1)];
     const std::size_t q = fill[static_cast<std::size_t>(l - 1)]++;
@@ -147,14 +146,19 @@ std::vector<ClusterEstimate> solve_instances(const Scan& scan, const ScanBeams& 
                                              bool with_ego, int k, const MotionPipelineParams& params,
                                              std::vector<std::int32_t>& labels) {
   Instances in;
-  solve_all(scan, beams, head_velocity, with_ego, k, params, labels, in);
+  // Merging relabels instances but keeps the set of labelled pixels.
+  std::vector<std::uint32_t> labelled;
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    if (labels[i] > 0) labelled.push_back(static_cast<std::uint32_t>(i));
+  }
+  solve_all(scan, beams, head_velocity, with_ego, k, params, labels, labelled, in);
   if (with_ego && k > 1 && merge_fragments(scan, in.rows, in.velocity, params.instances, labels)) {
     const std::vector<std::int32_t>& old = labels;
     k = static_cast<int>(renumber_by_first_pixel(labels, static_cast<std::size_t>(k) + 1,
                                                  [&](std::size_t i) { return old[i] > 0 ? old[i] : -1; })
                              .size()) -
         1;
-    solve_all(scan, beams, head_velocity, with_ego, k, params, labels, in);
+    solve_all(scan, beams, head_velocity, with_ego, k, params, labels, labelled, in);
   }
   std::vector<ClusterEstimate> clusters(static_cast<std::size_t>(k));
   for (int c = 0; c < k; ++c) {
