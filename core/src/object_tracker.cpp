@@ -71,6 +71,12 @@ void TrackerParams::validate() const {
   a.positive("vehicle_length_m", association.vehicle_length_m);
   a.non_negative("absorb_max_pixels", association.absorb_max_pixels);
   a.positive("split_min_share (above 1: never split)", association.split_min_share);
+  const FieldCheck f{"fragments"};
+  f.non_negative("max_pixels (0: none)", fragments.max_pixels);
+  f.at_least("reach_px", fragments.reach_px, 1);
+  f.non_negative("range_gap_m", fragments.range_gap_m);
+  f.non_negative("range_gap_fraction", fragments.range_gap_fraction);
+  f.at_least("host_ratio", fragments.host_ratio, 1.0);
   const FieldCheck l{"lifecycle"};
   l.at_least("confirm_hits", lifecycle.confirm_hits, 1);
   l.non_negative("max_misses", lifecycle.max_misses);
@@ -163,27 +169,8 @@ void ObjectTracker::update(const Scan& scan, const ScanBeams& beams, MotionEstim
     if (!groups[t].empty()) measure(tracks_[t], groups[t], false, frame, edges, p);
     update_track_state(tracks_[t], groups[t], p);
   }
-  // Birth: new tracks from the clusters no track took, unless inside a vehicle's measured box.
-  const std::size_t measured = tracks_.size();
-  std::vector<Box> measured_boxes(measured);
-  for (std::size_t t = 0; t < measured; ++t) measured_boxes[t] = box_of(tracks_[t]);
-  for (std::size_t c = 0; c < est.clusters.size(); ++c) {
-    if (assoc.owner[c] >= 0 || assoc.absorbed[c] >= 0 ||
-        static_cast<int>(cluster_pixels[c].size()) < p.association.min_cluster_pixels || !est.clusters[c].velocity.valid)
-      continue;
-    const int vehicle = inside_vehicle(frame, est.clusters[c], tracks_, measured_boxes, p);
-    if (vehicle >= 0) {
-      assoc.absorbed[c] = vehicle;
-      groups[static_cast<std::size_t>(vehicle)].absorbed.push_back(static_cast<std::int32_t>(c + 1));
-      continue;
-    }
-    Group g;
-    g.clusters.push_back(static_cast<std::int32_t>(c + 1));
-    g.found = cluster_pixels[c];
-    tracks_.push_back(start_track(est.clusters[c], g, next_id_++, frame, edges, p));
-    assoc.owner[c] = static_cast<int>(tracks_.size()) - 1;
-    groups.push_back(std::move(g));
-  }
+  // Birth: new tracks from the clusters no track took, unless they are pieces of a tracked object.
+  birth_tracks(frame, edges, est, cluster_pixels, p, assoc, tracks_, groups, next_id_);
   // Grow into the blind band, then relabel the estimate by the tracks.
   const std::vector<std::int32_t> group_of_label = group_of_labels(groups, est.clusters.size());
   const auto grown_untracked = grow_into_band(frame, est, cluster_pixels, tracks_, group_of_label, p, groups);

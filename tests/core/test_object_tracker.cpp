@@ -1,11 +1,16 @@
 // Tracking across frames on analytic scenes whose motion is known in closed form: a standing
-// rig, boxes moving on straight lines and circles, frames 0.1 s apart.
+// rig, boxes moving on straight lines and circles, frames 0.1 s apart. The last tests are on the
+// tails: the covariance of a young track that has not resolved a turn, and a piece of a car with
+// a Doppler of its own beside it in the image (a part, not a new object).
 
 #include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
 
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <set>
 #include <vector>
 
 #include "fmcw/core/motion_pipeline.hpp"
@@ -686,12 +691,105 @@ TEST(ObjectTracker, RejectsBadParametersNamingTheField) {
       // below turn_release_significance (2)
       {[](TrackerParams& p) { p.turning.turn_significance = 1.0; }, "tracking.turning.turn_significance"},
       {[](TrackerParams& p) { p.box.view_cut_cosine = 1.0; }, "tracking.box.view_cut_cosine must be in [0, 1), got 1"},
+      {[](TrackerParams& p) { p.fragments.reach_px = 0; }, "tracking.fragments.reach_px must be >= 1, got 0"},
   };
   for (const auto& [set, expected] : cases) {
     TrackerParams p;
     set(p);
     EXPECT_TRUE(refused(p, expected)) << expected;
   }
+}
+
+// NEES of an error against a 2 x 2 covariance, infinite variances left out (as the evaluation
+// scores them: eval/src/tail_metrics.cpp).
+double nees_2d(const Eigen::Vector2d& e, const Eigen::Matrix2d& cov) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(0.5 * (cov + cov.transpose()));
+  double n = 0.0;
+  for (int k = 0; k < 2; ++k) {
+    const double var = eig.eigenvalues()(k);
+    if (!std::isfinite(var)) continue;
+    const double along = eig.eigenvectors().col(k).dot(e);
+    n += along * along / var;
+  }
+  return n;
+}
+
+TEST(ObjectTracker, TheCovarianceOfAYoungTrackCoversTheTurnItHasNotResolved) {
+  // A car on a circle of radius 15 m about (30, 0) at 6 m/s (yaw rate 0.4 rad/s). Until the
+  // turn is resolved the velocity reported is the one the Doppler field shows, about
+  // omega * |c - o| = 6 m/s off at the centre; its covariance must be as wide, along the line
+  // across the line of sight that one scan cannot see.
+  const double radius = 15.0, omega = 0.4;
+  const auto car = [&](double t) {
+    const double th = -M_PI / 2 + omega * t;
+    SyntheticBox b;
+    b.center_m = Eigen::Vector3d(30.0 + radius * std::cos(th), radius * std::sin(th), 0.8);
+    b.half_extent_m = Eigen::Vector3d(2.2, 0.9, 0.8);
+    b.yaw_rad = th + M_PI / 2;
+    b.velocity_mps = Eigen::Vector3d(-radius * omega * std::sin(th), radius * omega * std::cos(th), 0.0);
+    b.yaw_rate_rps = omega;
+    return b;
+  };
+  MotionPipeline tracked(MotionPipelineParams::preset("tracked"));
+  int large_errors = 0;
+  for (int k = 0; k < 30; ++k) {
+    const Frame f = render_actors(k, {car(k * kDt)});
+    const MotionEstimate e = tracked.process(f.scan, static_cast<std::uint64_t>(k));
+    const ClusterEstimate* c = actor_cluster(f, e, 1);
+    ASSERT_NE(c, nullptr) << "frame " << k;
+    const Eigen::Vector2d err = (c->velocity.velocity_mps - car(k * kDt).velocity_mps).head<2>();
+    if (err.norm() < 1.0) continue;
+    ++large_errors;
+    // Inside the 99.9 % ellipse of two degrees of freedom: the covariance owns the error.
+    EXPECT_LT(nees_2d(err, c->velocity.covariance.topLeftCorner<2, 2>()), 13.8)
+        << "frame " << k << ": error " << err.transpose() << ", covariance\n"
+        << c->velocity.covariance.topLeftCorner<2, 2>();
+  }
+  EXPECT_GE(large_errors, 1);  // the young track is off before it resolves the turn
+}
+
+TEST(ObjectTracker, APieceBesideACarWithADopplerOfItsOwnIsPartOfTheCar) {
+  // A car 20 m ahead driving away at 8 m/s and, just behind its rear corner, a small
+  // piece that moves at 6 m/s (a wheel's Doppler differs from its body's): its own cluster, too
+  // unlike the car to join its track. It starts no track of its own and takes the car's label.
+  const auto scene = [](double t) {
+    SyntheticBox body;
+    body.center_m = Eigen::Vector3d(22.0 + 8.0 * t, 0.0, 0.8);
+    body.half_extent_m = Eigen::Vector3d(2.2, 0.9, 0.7);
+    body.velocity_mps = Eigen::Vector3d(8.0, 0.0, 0.0);
+    SyntheticBox piece;
+    piece.center_m = Eigen::Vector3d(19.2 + 8.0 * t, 1.0, 0.3);
+    piece.half_extent_m = Eigen::Vector3d(0.1, 0.12, 0.2);
+    piece.velocity_mps = Eigen::Vector3d(6.0, 0.0, 0.0);
+    return std::vector<SyntheticBox>{body, piece};
+  };
+  MotionPipeline tracked(MotionPipelineParams::preset("tracked"));
+  TrackerParams apart_params;
+  apart_params.fragments.max_pixels = 0;  // control: pieces are not absorbed
+  MotionPipelineParams apart_pipeline = MotionPipelineParams::preset("tracked");
+  apart_pipeline.tracking = apart_params;
+  MotionPipeline apart(apart_pipeline);
+  int piece_frames = 0, piece_joined = 0, piece_apart = 0;
+  std::set<std::int32_t> tracks_on_piece;
+  for (int k = 0; k < 12; ++k) {
+    const Frame f = render_actors(k, scene(k * kDt));
+    const MotionEstimate e = tracked.process(f.scan, static_cast<std::uint64_t>(k));
+    const MotionEstimate a = apart.process(f.scan, static_cast<std::uint64_t>(k));
+    const ClusterEstimate* body = actor_cluster(f, e, 1);
+    const ClusterEstimate* piece = actor_cluster(f, e, 2);
+    const ClusterEstimate* piece_a = actor_cluster(f, a, 2);
+    const ClusterEstimate* body_a = actor_cluster(f, a, 1);
+    ASSERT_NE(body, nullptr) << "frame " << k;
+    if (piece == nullptr || piece_a == nullptr) continue;
+    ++piece_frames;
+    piece_joined += piece->id == body->id ? 1 : 0;
+    piece_apart += body_a != nullptr && piece_a->id != body_a->id ? 1 : 0;
+    tracks_on_piece.insert(piece->track_id);
+  }
+  ASSERT_GE(piece_frames, 8);
+  EXPECT_GE(2 * piece_apart, piece_frames);  // control: mostly a cluster (and a track) of its own
+  EXPECT_EQ(piece_joined, piece_frames);  // with it, under the car's label every frame
+  EXPECT_EQ(tracks_on_piece.size(), 1u);  // one track: the car's
 }
 
 }  // namespace

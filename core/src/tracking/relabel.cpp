@@ -48,7 +48,11 @@ void report_track(const Frame& frame, const Track& tr, const Group& g, const Mot
     ce.yaw_rate_rps = 0.0;
   } else if (!tr.turning) {
     vel = J * tr.x.segment<3>(2);
-    cov = J * tr.P.block<3, 3>(2, 2) * J.transpose();
+    // The velocity the Doppler measures is the centre's only if the body does not turn: the
+    // yaw rate taken as 0 here is off by the track's own (with its variance), and each rad/s of
+    // it moves the centre's velocity by |o - c| m/s across the line of sight.
+    const Eigen::Vector2d s = J.col(2);
+    cov = J * tr.P.block<3, 3>(2, 2) * J.transpose() + (tr.x(4) * tr.x(4) + tr.P(4, 4)) * s * s.transpose();
     ce.yaw_rate_rps = 0.0;
   }
   v.velocity_mps = Eigen::Vector3d::Zero();

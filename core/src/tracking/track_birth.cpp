@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fragments.hpp"
 #include "measurement.hpp"
 
 namespace fmcw::core::tracking {
@@ -57,6 +58,53 @@ Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, co
   tr.last_pixels = static_cast<int>(g.found.size());
   if (tr.hits >= p.lifecycle.confirm_hits) tr.confirmed = true;
   return tr;
+}
+
+void birth_tracks(const Frame& frame, const ViewEdges& edges, const MotionEstimate& est,
+                  const std::vector<std::vector<std::uint32_t>>& cluster_pixels, const TrackerParams& p, Association& assoc,
+                  std::vector<Track>& tracks, std::vector<Group>& groups, std::int32_t& next_id) {
+  const std::size_t measured = tracks.size();
+  std::vector<Box> measured_boxes(measured);
+  for (std::size_t t = 0; t < measured; ++t) measured_boxes[t] = box_of(tracks[t]);
+  Footprints footprints(frame.scan.size());
+  // Walkers side by side are as near in the image as a body and its wheel: only the pixels of
+  // objects larger than a walker hold fragments.
+  for (std::size_t t = 0; t < groups.size(); ++t) {
+    if (!tracks[t].small(p)) footprints.add(t, groups[t]);
+  }
+  std::vector<std::size_t> order;
+  for (std::size_t c = 0; c < est.clusters.size(); ++c) {
+    if (assoc.owner[c] < 0 && assoc.absorbed[c] < 0) order.push_back(c);
+  }
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return cluster_pixels[a].size() > cluster_pixels[b].size(); });
+  const auto absorb = [&](std::size_t c, int into) {
+    assoc.absorbed[c] = into;
+    groups[static_cast<std::size_t>(into)].absorbed.push_back(static_cast<std::int32_t>(c + 1));
+  };
+  for (const std::size_t c : order) {
+    const int n = static_cast<int>(cluster_pixels[c].size());
+    if (n <= p.fragments.max_pixels) {
+      const int host = footprints.host(frame, cluster_pixels[c], p);
+      if (host >= 0) {
+        absorb(c, host);
+        continue;
+      }
+    }
+    if (n < p.association.min_cluster_pixels || !est.clusters[c].velocity.valid) continue;
+    const int vehicle = inside_vehicle(frame, est.clusters[c], tracks, measured_boxes, p);
+    if (vehicle >= 0) {
+      absorb(c, vehicle);
+      continue;
+    }
+    Group g;
+    g.clusters.push_back(static_cast<std::int32_t>(c + 1));
+    g.found = cluster_pixels[c];
+    tracks.push_back(start_track(est.clusters[c], g, next_id++, frame, edges, p));
+    assoc.owner[c] = static_cast<int>(tracks.size()) - 1;
+    if (!tracks.back().small(p)) footprints.add(groups.size(), g);
+    groups.push_back(std::move(g));
+  }
 }
 
 }  // namespace fmcw::core::tracking

@@ -2,6 +2,7 @@
 // Internal to core: a new track from a cluster no track took, with its priors.
 
 #include "fmcw/core/motion_pipeline.hpp"
+#include "association.hpp"
 #include "track_box.hpp"
 
 namespace fmcw::core::tracking {
@@ -14,5 +15,15 @@ namespace fmcw::core::tracking {
 /// Doppler. A small object's tangential velocity is not trusted at all.
 Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, const Frame& frame, const ViewEdges& edges,
                   const TrackerParams& p);
+
+/// The births of a frame, from the clusters no track took, the largest first (a body before its
+/// wheels). A cluster of at most fragments.max_pixels pixels beside a larger tracked group's
+/// pixels in the image (Footprints::host) is a piece of that object: it goes under its label,
+/// unmeasured, and so does one inside a confirmed vehicle's measured box (inside_vehicle). The
+/// others with min_cluster_pixels and a valid single-scan velocity start tracks (appended to
+/// tracks and groups, ids from next_id).
+void birth_tracks(const Frame& frame, const ViewEdges& edges, const MotionEstimate& est,
+                  const std::vector<std::vector<std::uint32_t>>& cluster_pixels, const TrackerParams& p, Association& assoc,
+                  std::vector<Track>& tracks, std::vector<Group>& groups, std::int32_t& next_id);
 
 }  // namespace fmcw::core::tracking

@@ -95,6 +95,21 @@ struct TrackerParams {
     double split_min_share = 0.5;
   } association;
 
+  /// Pieces of a tracked object seen apart in the range image (wheels, mirrors, limbs with a
+  /// Doppler of their own): a cluster no track took, of at most max_pixels pixels, within
+  /// reach_px pixels in the image of the pixels of a group (a track's this frame, or one born
+  /// before it: the largest clusters are born first; not a small one: walkers side by side are
+  /// as near each other in the image as a body and its wheel) that holds at least host_ratio times its
+  /// pixels, at a range within max(range_gap_m, range_gap_fraction * range) of them, goes under
+  /// that group's label, unmeasured, and starts no track. max_pixels = 0: never.
+  struct Fragments {
+    int max_pixels = 60;             ///< [pixels]
+    int reach_px = 2;                ///< [pixels]
+    double range_gap_m = 1.0;        ///< [m]
+    double range_gap_fraction = 0.03;
+    double host_ratio = 3.0;
+  } fragments;
+
   /// A track's life.
   struct Lifecycle {
     int confirm_hits = 3;              ///< hysteresis: updates before a track may carry labels
