@@ -272,14 +272,20 @@ PcdCloud read_pcd_impl(const std::string& path, PcdPackedData* packed) {
   } else if (data_kind == "binary") {
     const auto needed = static_cast<std::size_t>(n * stride);
     BlockReader body(in, path, static_cast<std::size_t>(available));
+    // Per raw field: its bytes and the cloud field it fills (-1: skipped), decided once, not per point.
+    std::vector<std::size_t> bytes(raw.size());
+    std::vector<std::ptrdiff_t> target(raw.size(), -1);
+    std::ptrdiff_t next_field = 0;
+    for (std::size_t f = 0; f < raw.size(); ++f) {
+      bytes[f] = static_cast<std::size_t>(raw[f].size) * static_cast<std::size_t>(raw[f].count);
+      if (raw[f].count == 1 && raw[f].name != "_") target[f] = next_field++;
+    }
     for (std::size_t i = 0; i < n; ++i) {
-      std::size_t out_field = 0;
-      for (const auto& rf : raw) {
-        const auto bytes = static_cast<std::size_t>(rf.size) * static_cast<std::size_t>(rf.count);
-        if (rf.count == 1 && rf.name != "_") {
-          cloud.fields[out_field++].values[i] = decode(body.take(bytes), rf.type, rf.size);
+      for (std::size_t f = 0; f < raw.size(); ++f) {
+        if (target[f] >= 0) {
+          cloud.fields[static_cast<std::size_t>(target[f])].values[i] = decode(body.take(bytes[f]), raw[f].type, raw[f].size);
         } else {
-          body.skip(bytes);
+          body.skip(bytes[f]);
         }
       }
     }
