@@ -1,11 +1,64 @@
 #include "claims.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 namespace fmcw::core::tracking {
 
 namespace {
+
 enum class Foreground { kUnknown, kNo, kYes };
+
+// The carrying boxes' reach rectangles (centre +- half sides, world axes) by cell of a world
+// grid: a point needs testing only against the boxes listed at its cell, in carrying order. A
+// box is listed at every cell its rectangle, padded by a millimetre, overlaps, so a box whose
+// rectangle holds the point is always listed at the point's cell: the same boxes pass the
+// rectangle test as when every box is tested.
+class BoxGrid {
+ public:
+  BoxGrid(const std::vector<Eigen::Vector2d>& centre, const std::vector<Eigen::Vector2d>& half) {
+    constexpr double kPad = 1e-3;
+    lo_ = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector2d hi = -lo_;
+    for (std::size_t n = 0; n < centre.size(); ++n) {
+      lo_ = lo_.cwiseMin(centre[n] - half[n]);
+      hi = hi.cwiseMax(centre[n] + half[n]);
+    }
+    lo_ -= Eigen::Vector2d::Constant(kPad);
+    hi += Eigen::Vector2d::Constant(kPad);
+    const Eigen::Vector2d extent = hi - lo_;
+    cell_ = std::max(1.0, extent.maxCoeff() / 128.0);  // at most 129 x 129 cells
+    nx_ = static_cast<int>(extent.x() / cell_) + 1;
+    ny_ = static_cast<int>(extent.y() / cell_) + 1;
+    cells_.assign(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_), {});
+    for (std::size_t n = 0; n < centre.size(); ++n) {
+      const Eigen::Vector2d a = centre[n] - half[n] - Eigen::Vector2d::Constant(kPad);
+      const Eigen::Vector2d b = centre[n] + half[n] + Eigen::Vector2d::Constant(kPad);
+      for (int y = cell_y(a.y()); y <= cell_y(b.y()); ++y) {
+        for (int x = cell_x(a.x()); x <= cell_x(b.x()); ++x) cells_[index(x, y)].push_back(static_cast<std::uint32_t>(n));
+      }
+    }
+  }
+  /// The boxes to test for world point q, or none when it lies outside every box's cells.
+  const std::vector<std::uint32_t>* at(const Eigen::Vector2d& q) const {
+    const double fx = (q.x() - lo_.x()) / cell_, fy = (q.y() - lo_.y()) / cell_;
+    if (!(fx >= 0.0 && fy >= 0.0 && fx < nx_ && fy < ny_)) return nullptr;  // also NaN
+    return &cells_[index(static_cast<int>(fx), static_cast<int>(fy))];
+  }
+
+ private:
+  int cell_x(double x) const { return std::clamp(static_cast<int>(std::floor((x - lo_.x()) / cell_)), 0, nx_ - 1); }
+  int cell_y(double y) const { return std::clamp(static_cast<int>(std::floor((y - lo_.y()) / cell_)), 0, ny_ - 1); }
+  std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * static_cast<std::size_t>(nx_) + static_cast<std::size_t>(x); }
+
+  Eigen::Vector2d lo_;
+  double cell_ = 1.0;
+  int nx_ = 1, ny_ = 1;
+  std::vector<std::vector<std::uint32_t>> cells_;
+};
+
 }  // namespace
 
 void claim_pixels(const Frame& frame, const MotionEstimate& est, const std::vector<Track>& tracks, const std::vector<Box>& boxes,
@@ -19,21 +72,25 @@ void claim_pixels(const Frame& frame, const MotionEstimate& est, const std::vect
   const TrackerParams::Claims& pc = p.claims;
   // Each carrying box's reach, as half sides of an axis-aligned rectangle: a cheap first test.
   const double reach = std::max(pc.claim_margin_m, background_ready ? p.background.label_m : 0.0);
-  std::vector<Eigen::Vector2d> half_sides;
+  std::vector<Eigen::Vector2d> half_sides, centres;
   for (const std::size_t t : carrying) {
     const Box& b = boxes[t];
     const double l = b.half_l + reach;
     const double w = b.half_w + reach;
     half_sides.emplace_back(std::abs(b.u.x()) * l + std::abs(b.u.y()) * w, std::abs(b.u.y()) * l + std::abs(b.u.x()) * w);
+    centres.push_back(b.centre);
   }
+  const BoxGrid grid(centres, half_sides);
   for (std::size_t i = 0; i < est.labels.size(); ++i) {
     if (est.labels[i] != 0) continue;
     const Eigen::Vector3d q = frame.scan.position(i);
     const Eigen::Vector2d qw = frame.world_xy(q);
+    const std::vector<std::uint32_t>* near = grid.at(qw);
+    if (near == nullptr) continue;
     Foreground fg = background_ready ? Foreground::kUnknown : Foreground::kNo;
     std::int32_t near_fg = -1;
     bool taken = false;
-    for (std::size_t n = 0; n < carrying.size(); ++n) {
+    for (const std::uint32_t n : *near) {
       const std::size_t t = carrying[n];
       const Eigen::Vector2d off = (qw - boxes[t].centre).cwiseAbs();
       if (off.x() > half_sides[n].x() || off.y() > half_sides[n].y()) continue;
