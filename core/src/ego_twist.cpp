@@ -28,9 +28,7 @@ void gather_rows(const Scan& scan, const ScanBeams& beams, TwistRows& rows) {
     oy[c] = beams.origin[c].y();
     cell_col[c] = static_cast<std::uint16_t>(static_cast<int>(c) * kCellCols / scan.cols);
   }
-  std::size_t n = 0;
-  for (const std::uint8_t v : scan.valid) n += v != 0 ? 1 : 0;
-  rows.resize(n);
+  rows.resize(scan.num_valid());
   std::size_t k = 0;
   for (int r = 0; r < scan.rows; ++r) {
     const auto cell_row = static_cast<std::uint16_t>((r * kCellRows / scan.rows) * kCellCols);

@@ -118,8 +118,6 @@ VelocityEstimate solve_normal_equations(const NormalEquations& ne, double qr_con
 }
 
 namespace {
-// solve_velocity_planar, also handing back the rows' information N = sum a a^T (zero with fewer
-// than two rows), which the robust fit starts from.
 // The weighted sums of a planar fit, N = sum w a a^T and g = sum w t a, in scalars (registers,
 // not matrices in memory: a store-to-load chain per row) and entry by entry as Eigen's
 // (w a) a^T and (w t) a add them, N's two off-diagonal entries each their own sum.
@@ -138,6 +136,8 @@ struct PlanarSums {
   Eigen::Vector2d g() const { return {g0, g1}; }
 };
 
+// solve_velocity_planar, also handing back the rows' information N = sum a a^T (zero with fewer
+// than two rows), which the robust fit starts from.
 VelocityEstimate fit_planar(const VelocityRows& rows, Eigen::Matrix2d& N) {
   VelocityEstimate est;
   est.num_points = static_cast<int>(rows.size());

@@ -243,9 +243,14 @@ PcdCloud read_pcd_impl(const std::string& path, PcdPackedData* packed) {
     throw core::FileError(concat(where("DATA"), " '", data_kind, "' is not supported (use binary or ascii)"));
   }
   const bool copy_packed = packed != nullptr && data_kind == "binary";
-  for (const auto& rf : raw) {
+  // Per raw field: the cloud field it fills, -1 where it is skipped (padding "_", COUNT > 1);
+  // decided once here, not per point.
+  std::vector<std::ptrdiff_t> target(raw.size(), -1);
+  for (std::size_t f = 0; f < raw.size(); ++f) {
+    const RawField& rf = raw[f];
     if (rf.name == "_") continue;
     if (rf.count == 1) {
+      target[f] = static_cast<std::ptrdiff_t>(cloud.fields.size());
       cloud.fields.push_back(PcdField{rf.name, rf.type, rf.size, std::vector<double>(copy_packed ? 0 : n)});
     } else {
       cloud.multi_count_fields.emplace_back(rf.name, rf.count);
@@ -272,20 +277,14 @@ PcdCloud read_pcd_impl(const std::string& path, PcdPackedData* packed) {
   } else if (data_kind == "binary") {
     const auto needed = static_cast<std::size_t>(n * stride);
     BlockReader body(in, path, static_cast<std::size_t>(available));
-    // Per raw field: its bytes and the cloud field it fills (-1: skipped), decided once, not per point.
-    std::vector<std::size_t> bytes(raw.size());
-    std::vector<std::ptrdiff_t> target(raw.size(), -1);
-    std::ptrdiff_t next_field = 0;
-    for (std::size_t f = 0; f < raw.size(); ++f) {
-      bytes[f] = static_cast<std::size_t>(raw[f].size) * static_cast<std::size_t>(raw[f].count);
-      if (raw[f].count == 1 && raw[f].name != "_") target[f] = next_field++;
-    }
     for (std::size_t i = 0; i < n; ++i) {
       for (std::size_t f = 0; f < raw.size(); ++f) {
+        const RawField& rf = raw[f];
+        const auto bytes = static_cast<std::size_t>(rf.size) * static_cast<std::size_t>(rf.count);
         if (target[f] >= 0) {
-          cloud.fields[static_cast<std::size_t>(target[f])].values[i] = decode(body.take(bytes[f]), raw[f].type, raw[f].size);
+          cloud.fields[static_cast<std::size_t>(target[f])].values[i] = decode(body.take(bytes), rf.type, rf.size);
         } else {
-          body.skip(bytes[f]);
+          body.skip(bytes);
         }
       }
     }
@@ -308,15 +307,15 @@ PcdCloud read_pcd_impl(const std::string& path, PcdPackedData* packed) {
       FMCW_CHECK_FILE(words.size() == tokens_per_point, path, ":", line_no, ": point ", i, " has ", words.size(),
                       " values, expected ", tokens_per_point);
       std::size_t t = 0;
-      std::size_t out_field = 0;
-      for (const auto& rf : raw) {
-        if (rf.count == 1 && rf.name != "_") {
+      for (std::size_t f = 0; f < raw.size(); ++f) {
+        const RawField& rf = raw[f];
+        if (target[f] >= 0) {
           const std::string& w = words[t];
           char* end = nullptr;
           const double v = std::strtod(w.c_str(), &end);
           FMCW_CHECK_FILE(end != nullptr && *end == '\0', path, ":", line_no, ": field '", rf.name, "' of point ", i,
                           " is not a number: '", w, "'");
-          cloud.fields[out_field++].values[i] = v;
+          cloud.fields[static_cast<std::size_t>(target[f])].values[i] = v;
         }
         t += static_cast<std::size_t>(rf.count);
       }

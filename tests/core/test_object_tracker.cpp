@@ -154,23 +154,27 @@ TEST(ObjectTracker, CarriesMovingThroughTheBlindBand) {
   EXPECT_GT(tracked_fraction, 0.9);  // the track keeps it
 }
 
+// A car on a circle of radius 15 m about (30, 0) at 6 m/s (yaw rate 0.4 rad/s), at time t: it
+// starts at (30, -15) heading +x.
+constexpr double kCircleRadius = 15.0;
+constexpr double kCircleOmega = 0.4;
+SyntheticBox circling_car(double t) {
+  const double th = -M_PI / 2 + kCircleOmega * t;
+  SyntheticBox b;
+  b.center_m = Eigen::Vector3d(30.0 + kCircleRadius * std::cos(th), kCircleRadius * std::sin(th), 0.8);
+  b.half_extent_m = Eigen::Vector3d(2.2, 0.9, 0.8);
+  b.yaw_rad = th + M_PI / 2;
+  b.velocity_mps = Eigen::Vector3d(-kCircleRadius * kCircleOmega * std::sin(th), kCircleRadius * kCircleOmega * std::cos(th), 0.0);
+  b.yaw_rate_rps = kCircleOmega;
+  return b;
+}
+
 TEST(ObjectTracker, EstimatesTheYawRateAndTheVelocityAtTheCentreOfATurningCar) {
   // A car on a circle of radius 15 m about (30, 0) at 6 m/s: yaw rate 0.4 rad/s. One scan sees
   // the Doppler field of v_c - omega x (c - o): about omega * |c| = 6 m/s off at 15..45 m.
-  const double radius = 15.0;
-  const double omega = 0.4;
-  const auto car = [&](double t) {
-    const double th = -M_PI / 2 + omega * t;  // starts at (30, -15) heading +x
-    SyntheticBox b;
-    b.center_m = Eigen::Vector3d(30.0 + radius * std::cos(th), radius * std::sin(th), 0.8);
-    b.half_extent_m = Eigen::Vector3d(2.2, 0.9, 0.8);
-    b.yaw_rad = th + M_PI / 2;
-    b.velocity_mps = Eigen::Vector3d(-radius * omega * std::sin(th), radius * omega * std::cos(th), 0.0);
-    b.yaw_rate_rps = omega;
-    return b;
-  };
+  const auto car = circling_car;
   const SequenceErrors err = run_sequence(
-      40, 30, [&](int k) { return render_at(k, car); }, [&](int k) { return car(k * kDt).velocity_mps; }, omega);
+      40, 30, [&](int k) { return render_at(k, car); }, [&](int k) { return car(k * kDt).velocity_mps; }, kCircleOmega);
   EXPECT_GT(err.single, 2.0);
   EXPECT_LT(err.tracked, 0.5);
   EXPECT_LT(err.yaw_rate, 0.05);
@@ -719,17 +723,7 @@ TEST(ObjectTracker, TheCovarianceOfAYoungTrackCoversTheTurnItHasNotResolved) {
   // turn is resolved the velocity reported is the one the Doppler field shows, about
   // omega * |c - o| = 6 m/s off at the centre; its covariance must be as wide, along the line
   // across the line of sight that one scan cannot see.
-  const double radius = 15.0, omega = 0.4;
-  const auto car = [&](double t) {
-    const double th = -M_PI / 2 + omega * t;
-    SyntheticBox b;
-    b.center_m = Eigen::Vector3d(30.0 + radius * std::cos(th), radius * std::sin(th), 0.8);
-    b.half_extent_m = Eigen::Vector3d(2.2, 0.9, 0.8);
-    b.yaw_rad = th + M_PI / 2;
-    b.velocity_mps = Eigen::Vector3d(-radius * omega * std::sin(th), radius * omega * std::cos(th), 0.0);
-    b.yaw_rate_rps = omega;
-    return b;
-  };
+  const auto car = circling_car;
   MotionPipeline tracked(MotionPipelineParams::preset("tracked"));
   int large_errors = 0;
   for (int k = 0; k < 30; ++k) {

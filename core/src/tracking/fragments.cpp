@@ -24,13 +24,8 @@ int Footprints::host(const Frame& frame, const std::vector<std::uint32_t>& fragm
     const int r = static_cast<int>(i / static_cast<std::uint32_t>(cols));
     const int c = static_cast<int>(i % static_cast<std::uint32_t>(cols));
     // The fragment's head: its neighbours in the image are those of the same head.
-    int c_lo = 0, c_hi = cols - 1;
-    for (const HeadInfo& h : scan.heads) {
-      if (c >= h.col_begin && c < h.col_end) {
-        c_lo = h.col_begin;
-        c_hi = h.col_end - 1;
-      }
-    }
+    const HeadInfo& head = scan.heads[static_cast<std::size_t>(scan.head_of_col(c))];
+    const int c_lo = head.col_begin, c_hi = head.col_end - 1;
     const double range = scan.range_m[i];
     const double gap = std::max(pf.range_gap_m, pf.range_gap_fraction * range);
     std::int32_t best = -1;
