@@ -28,20 +28,25 @@ void gather_rows(const Scan& scan, const ScanBeams& beams, TwistRows& rows) {
     oy[c] = beams.origin[c].y();
     cell_col[c] = static_cast<std::uint16_t>(static_cast<int>(c) * kCellCols / scan.cols);
   }
-  rows.resize(scan.num_valid());
+  // Every pixel is written at slot k and k advances over the valid ones only (no branch on
+  // validity, which the predictor cannot learn at the edges of returns); one slot of slack
+  // takes the writes after the last valid pixel.
+  const std::size_t num_valid = scan.num_valid();
+  rows.resize(num_valid + 1);
   std::size_t k = 0;
   for (int r = 0; r < scan.rows; ++r) {
     const auto cell_row = static_cast<std::uint16_t>((r * kCellRows / scan.rows) * kCellCols);
     const std::size_t first = scan.index(r, 0);
     for (std::size_t c = 0; c < cols; ++c) {
       const std::size_t i = first + c;
-      if (!scan.valid[i]) continue;
       const Eigen::Vector3d& e = beams.e[i];
       // Yaw rate term: e . (omega_z z x o) = omega_z (o_x e_y - o_y e_x).
-      rows.set(k++, e.x(), e.y(), e.z(), ox[c] * e.y() - oy[c] * e.x(), scan.radial_velocity_mps[i],
+      rows.set(k, e.x(), e.y(), e.z(), ox[c] * e.y() - oy[c] * e.x(), scan.radial_velocity_mps[i],
                static_cast<std::uint16_t>(cell_row + cell_col[c]));
+      k += scan.valid[i] != 0 ? 1 : 0;
     }
   }
+  rows.resize(num_valid);
 }
 
 // The rows of the seeded subset MSAC scores hypotheses on, copied together.

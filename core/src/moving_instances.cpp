@@ -42,21 +42,21 @@ bool is_occlusion_edge(const Scan& scan, const std::vector<int>& group_of, int r
 Segmentation label_moving_instances(const Scan& scan, const std::vector<std::uint8_t>& moving, const InstanceParams& params) {
   FMCW_CHECK_ARG(moving.size() == scan.size(), "instances: moving mask has ", moving.size(), " values, expected ", scan.size());
   Segmentation out;
-  // Labels: invalid or static; regions: pending for the moving pixels, which are listed.
-  constexpr std::int32_t kPending = -3;
+  // Labels: invalid or static; the moving pixels are pending until a region takes them, and
+  // listed.
   const std::size_t n = scan.size();
   out.labels.resize(n);
-  std::vector<std::int32_t> region(n);
+  std::vector<std::uint8_t> pending_at(n);
   std::size_t valid_pixels = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const bool valid = scan.valid[i] != 0;
     out.labels[i] = valid ? Segmentation::kStatic : Segmentation::kInvalid;
-    region[i] = valid && moving[i] != 0 ? kPending : -1;
+    pending_at[i] = valid & (moving[i] != 0) ? 1 : 0;
     valid_pixels += valid ? 1 : 0;
   }
   std::vector<std::uint32_t> pending;
   for (std::size_t i = 0; i < n; ++i) {
-    if (region[i] == kPending) pending.push_back(static_cast<std::uint32_t>(i));
+    if (pending_at[i] != 0) pending.push_back(static_cast<std::uint32_t>(i));
   }
   // Column group of each column, for neighbours across stitched seams only.
   const std::vector<int> group_of = scan.column_group_of();
@@ -75,10 +75,10 @@ Segmentation label_moving_instances(const Scan& scan, const std::vector<std::uin
   std::int32_t next = 0;
   std::size_t labelled = 0;
   for (const std::uint32_t seed : pending) {
-    if (region[seed] != kPending) continue;
+    if (pending_at[seed] == 0) continue;
     members.clear();
     stack.assign(1, static_cast<std::uint32_t>(seed));
-    region[seed] = next;
+    pending_at[seed] = 0;
     while (!stack.empty()) {
       const std::uint32_t q = stack.back();
       stack.pop_back();
@@ -86,8 +86,8 @@ Segmentation label_moving_instances(const Scan& scan, const std::vector<std::uin
       const int r = static_cast<int>(q / static_cast<std::uint32_t>(scan.cols));
       const int c = static_cast<int>(q % static_cast<std::uint32_t>(scan.cols));
       for_each_neighbour(scan, group_of, r, c, [&](std::size_t nq, int dr, int dc) {
-        if (region[nq] != kPending || !joins(q, nq, r, c, dr, dc)) return;
-        region[nq] = next;
+        if (pending_at[nq] == 0 || !joins(q, nq, r, c, dr, dc)) return;
+        pending_at[nq] = 0;
         stack.push_back(static_cast<std::uint32_t>(nq));
       });
     }

@@ -18,36 +18,40 @@ namespace {
 
 // Small instances that touch a larger one whose rigid motion explains their Doppler join it.
 // rows[l - 1] holds instance l's rows (targets already ego-compensated). Returns whether any
-// instance was merged; labels are updated in place (numbering may have gaps).
+// instance was merged; labels are updated in place (numbering may have gaps), and grew[l] is 1
+// for each instance l that took a fragment. labelled: the pixels with a positive label,
+// ascending.
 bool merge_fragments(const Scan& scan, const std::vector<VelocityRows>& rows, const std::vector<VelocityEstimate>& velocity,
-                     const InstanceParams& params, std::vector<std::int32_t>& labels) {
+                     const InstanceParams& params, const std::vector<std::uint32_t>& labelled,
+                     std::vector<std::int32_t>& labels, std::vector<std::uint8_t>& grew) {
   const int k = static_cast<int>(rows.size());
   std::vector<std::int32_t> target(static_cast<std::size_t>(k) + 1, 0);
   const std::vector<int> group_of = scan.column_group_of();
+  const auto cols = static_cast<std::uint32_t>(scan.cols);
   // The largest instance touching each small one.
-  for (int r = 0; r < scan.rows; ++r) {
-    for (int c = 0; c < scan.cols; ++c) {
-      const std::int32_t l = labels[scan.index(r, c)];
-      if (l <= 0 || static_cast<int>(rows[static_cast<std::size_t>(l - 1)].size()) >= params.fragment_pixels) continue;
-      for_each_neighbour(scan, group_of, r, c, [&](std::size_t n, int, int) {
-        const std::int32_t m = labels[n];
-        if (m <= 0 || m == l || rows[static_cast<std::size_t>(m - 1)].size() <= rows[static_cast<std::size_t>(l - 1)].size()) return;
-        std::int32_t& t = target[static_cast<std::size_t>(l)];
-        if (t == 0 || rows[static_cast<std::size_t>(m - 1)].size() > rows[static_cast<std::size_t>(t - 1)].size()) t = m;
-      });
-    }
+  for (const std::uint32_t i : labelled) {
+    const std::int32_t l = labels[i];
+    if (static_cast<int>(rows[static_cast<std::size_t>(l - 1)].size()) >= params.fragment_pixels) continue;
+    for_each_neighbour(scan, group_of, static_cast<int>(i / cols), static_cast<int>(i % cols), [&](std::size_t n, int, int) {
+      const std::int32_t m = labels[n];
+      if (m <= 0 || m == l || rows[static_cast<std::size_t>(m - 1)].size() <= rows[static_cast<std::size_t>(l - 1)].size()) return;
+      std::int32_t& t = target[static_cast<std::size_t>(l)];
+      if (t == 0 || rows[static_cast<std::size_t>(m - 1)].size() > rows[static_cast<std::size_t>(t - 1)].size()) t = m;
+    });
   }
   bool merged = false;
   std::vector<double> residual;
+  std::vector<std::uint64_t> keys;
   for (int l = 1; l <= k; ++l) {
     const std::int32_t t = target[static_cast<std::size_t>(l)];
     if (t == 0 || !velocity[static_cast<std::size_t>(t - 1)].valid) continue;
     const VelocityRows& rw = rows[static_cast<std::size_t>(l - 1)];
     const Eigen::Vector3d& v = velocity[static_cast<std::size_t>(t - 1)].velocity_mps;
-    residual.clear();
-    for (std::size_t q = 0; q < rw.size(); ++q) residual.push_back(std::abs(rw.targets_mps[q] - rw.directions[q].dot(v)));
-    if (upper_median(residual) >= params.fragment_residual_mps) continue;
+    residual.resize(rw.size());
+    for (std::size_t q = 0; q < rw.size(); ++q) residual[q] = std::abs(rw.targets_mps[q] - rw.directions[q].dot(v));
+    if (upper_median_of_magnitudes(residual, keys) >= params.fragment_residual_mps) continue;
     target[static_cast<std::size_t>(l)] = -t;  // merge l into t
+    grew[static_cast<std::size_t>(t)] = 1;
     merged = true;
   }
   if (!merged) return false;
@@ -107,36 +111,43 @@ struct Instances {
   std::vector<VelocityEstimate> velocity;
 };
 
-// labelled: the pixels with a positive label, ascending.
+// labelled: the pixels with a positive label, ascending. With redo non-empty, only the
+// instances l with redo[l - 1] are built and solved; the others keep what in holds.
 void solve_all(const Scan& scan, const ScanBeams& beams, const std::vector<Eigen::Vector3d>& head_velocity, bool with_ego,
                int k, const MotionPipelineParams& params, const std::vector<std::int32_t>& labels,
-               const std::vector<std::uint32_t>& labelled, Instances& in) {
+               const std::vector<std::uint32_t>& labelled, const std::vector<std::uint8_t>& redo, Instances& in) {
+  const auto todo = [&](std::size_t c) { return redo.empty() || redo[c] != 0; };
   in.rows.resize(static_cast<std::size_t>(k));
-  in.centroid.assign(static_cast<std::size_t>(k), Eigen::Vector3d::Zero());
-  in.velocity.assign(static_cast<std::size_t>(k), VelocityEstimate{});
+  in.centroid.resize(static_cast<std::size_t>(k));
+  in.velocity.resize(static_cast<std::size_t>(k));
   // Each instance's pixels in image order: counted first, then written in place.
   std::vector<std::size_t> fill(static_cast<std::size_t>(k), 0);
   for (const std::uint32_t i : labelled) ++fill[static_cast<std::size_t>(labels[i] - 1)];
   for (std::size_t c = 0; c < fill.size(); ++c) {
-    in.rows[c].directions.resize(fill[c]);
-    in.rows[c].targets_mps.resize(fill[c]);
+    if (todo(c)) {
+      in.rows[c].directions.resize(fill[c]);
+      in.rows[c].targets_mps.resize(fill[c]);
+      in.centroid[c].setZero();
+      in.velocity[c] = VelocityEstimate{};
+    }
     fill[c] = 0;
   }
   for (const std::uint32_t i : labelled) {
-    const std::int32_t l = labels[i];
+    const auto c = static_cast<std::size_t>(labels[i] - 1);
+    if (!todo(c)) continue;
     const Eigen::Vector3d& e = beams.e[i];
-    VelocityRows& rw = in.rows[static_cast<std::size_t>(l - 1)];
-    const std::size_t q = fill[static_cast<std::size_t>(l - 1)]++;
+    VelocityRows& rw = in.rows[c];
+    const std::size_t q = fill[c]++;
     rw.directions[q] = e;
     rw.targets_mps[q] = scan.radial_velocity_mps[i] + e.dot(head_velocity[i % beams.cols]);
-    in.centroid[static_cast<std::size_t>(l - 1)] += scan.position(i);
+    in.centroid[c] += scan.position(i);
   }
   if (!with_ego) return;
-  for (int c = 0; c < k; ++c) {
-    const VelocityRows& rw = in.rows[static_cast<std::size_t>(c)];
-    in.velocity[static_cast<std::size_t>(c)] = params.planar_objects
-                                                   ? solve_velocity_planar_robust(rw, params.ego.noise_sigma_mps)
-                                                   : solve_velocity_closed_form(rw, params.velocity.qr_condition_threshold);
+  for (std::size_t c = 0; c < static_cast<std::size_t>(k); ++c) {
+    if (!todo(c)) continue;
+    const VelocityRows& rw = in.rows[c];
+    in.velocity[c] = params.planar_objects ? solve_velocity_planar_robust(rw, params.ego.noise_sigma_mps)
+                                           : solve_velocity_closed_form(rw, params.velocity.qr_condition_threshold);
   }
 }
 
@@ -151,14 +162,25 @@ std::vector<ClusterEstimate> solve_instances(const Scan& scan, const ScanBeams& 
   for (std::size_t i = 0; i < labels.size(); ++i) {
     if (labels[i] > 0) labelled.push_back(static_cast<std::uint32_t>(i));
   }
-  solve_all(scan, beams, head_velocity, with_ego, k, params, labels, labelled, in);
-  if (with_ego && k > 1 && merge_fragments(scan, in.rows, in.velocity, params.instances, labels)) {
+  solve_all(scan, beams, head_velocity, with_ego, k, params, labels, labelled, {}, in);
+  std::vector<std::uint8_t> grew(static_cast<std::size_t>(k) + 1, 0);
+  if (with_ego && k > 1 && merge_fragments(scan, in.rows, in.velocity, params.instances, labelled, labels, grew)) {
     const std::vector<std::int32_t>& old = labels;
-    k = static_cast<int>(renumber_by_first_pixel(labels, static_cast<std::size_t>(k) + 1,
-                                                 [&](std::size_t i) { return old[i] > 0 ? old[i] : -1; })
-                             .size()) -
-        1;
-    solve_all(scan, beams, head_velocity, with_ego, k, params, labels, labelled, in);
+    const std::vector<std::int32_t> key_of_new = renumber_by_first_pixel(
+        labels, static_cast<std::size_t>(k) + 1, [&](std::size_t i) { return old[i] > 0 ? old[i] : -1; });
+    // An instance that took no fragment has the same rows in the same order: it keeps its
+    // solution (moved to its new number, which is never above its old one).
+    k = static_cast<int>(key_of_new.size()) - 1;
+    std::vector<std::uint8_t> redo(static_cast<std::size_t>(k));
+    for (std::size_t l = 1; l < key_of_new.size(); ++l) {
+      const auto from = static_cast<std::size_t>(key_of_new[l]);
+      redo[l - 1] = grew[from];
+      if (redo[l - 1] != 0 || from == l) continue;
+      in.rows[l - 1] = std::move(in.rows[from - 1]);
+      in.centroid[l - 1] = in.centroid[from - 1];
+      in.velocity[l - 1] = in.velocity[from - 1];
+    }
+    solve_all(scan, beams, head_velocity, with_ego, k, params, labels, labelled, redo, in);
   }
   std::vector<ClusterEstimate> clusters(static_cast<std::size_t>(k));
   for (int c = 0; c < k; ++c) {

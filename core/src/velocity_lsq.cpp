@@ -22,11 +22,16 @@ Eigen::Vector3d unit_beam(const Scan& scan, const std::vector<Eigen::Vector3d>& 
 // error is about 1/sqrt(kScaleSamples), a few percent, and a bus's cluster has tens of
 // thousands of rows.
 constexpr std::size_t kScaleSamples = 4096;
-double robust_scale(const std::vector<double>& residual, double floor_sigma, std::vector<double>& scratch) {
+struct ScaleScratch {
+  std::vector<double> magnitude;
+  std::vector<std::uint64_t> keys;
+};
+double robust_scale(const std::vector<double>& residual, double floor_sigma, ScaleScratch& scratch) {
   const std::size_t stride = std::max<std::size_t>(1, (residual.size() + kScaleSamples - 1) / kScaleSamples);
-  scratch.clear();
-  for (std::size_t k = 0; k < residual.size(); k += stride) scratch.push_back(std::abs(residual[k]));
-  return std::max(floor_sigma, 1.4826 * upper_median(scratch));
+  std::vector<double>& m = scratch.magnitude;
+  m.resize((residual.size() + stride - 1) / stride);
+  for (std::size_t k = 0, j = 0; k < residual.size(); k += stride, ++j) m[j] = std::abs(residual[k]);
+  return std::max(floor_sigma, 1.4826 * upper_median_of_magnitudes(m, scratch.keys));
 }
 }  // namespace
 
@@ -177,7 +182,8 @@ VelocityEstimate solve_velocity_planar_robust(const VelocityRows& rows, double n
   VelocityEstimate est = fit_planar(rows, N_used);
   if (!est.valid) return est;
   const std::size_t n = rows.size();
-  std::vector<double> residual(n), scratch(n);
+  std::vector<double> residual(n);
+  ScaleScratch scratch;
   Eigen::Vector2d v = est.velocity_mps.head<2>();
   Eigen::Matrix2d N = Eigen::Matrix2d::Zero();
   for (int it = 0; it < iterations; ++it) {

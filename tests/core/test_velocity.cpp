@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "fmcw/core/ceres_velocity.hpp"
+#include "fmcw/core/median.hpp"
 #include "fmcw/core/random.hpp"
 #include "fmcw/core/velocity_lsq.hpp"
 
@@ -115,6 +117,39 @@ TEST(Subsample, EqualsTheDenseFisherYatesShuffle) {
       dense.resize(k);
       std::sort(dense.begin(), dense.end());
       EXPECT_EQ(subsample_indices(n, k, seed), dense) << "n " << n << " k " << k << " seed " << seed;
+    }
+  }
+}
+
+// The radix selection returns the value nth_element puts at size / 2 (the definition): spread
+// and narrow magnitudes, many ties, zeros, infinities, short inputs, odd and even sizes; a NaN
+// or a negative value takes the fallback, which is the definition itself.
+TEST(Median, MagnitudesEqualTheUpperMedian) {
+  Rng rng(11);
+  std::vector<std::uint64_t> keys;
+  const std::size_t sizes[] = {1, 2, 7, 256, 257, 1000, 4096, 4097, 20000};
+  for (const std::size_t n : sizes) {
+    for (int kind = 0; kind < 6; ++kind) {
+      std::vector<double> v(n);
+      for (auto& x : v) {
+        const double g = std::abs(rng.normal());
+        switch (kind) {
+          case 0: x = g * std::pow(10.0, 6.0 * rng.uniform() - 3.0); break;  // spread over decades
+          case 1: x = 1.0 + 1e-12 * g; break;                             // one exponent, low bits differ
+          case 2: x = std::floor(4.0 * rng.uniform()) * 0.25; break;         // ties and zeros
+          case 3: x = rng.uniform() < 0.1 ? std::numeric_limits<double>::infinity() : g; break;
+          case 4: x = rng.uniform() < 0.5 ? 0.0 : g * 1e-310; break;        // zeros and subnormals
+          default: x = rng.uniform() < 0.01 ? std::numeric_limits<double>::quiet_NaN() : -g; break;
+        }
+      }
+      std::vector<double> a = v, b = v;
+      const double want = upper_median(a);
+      const double got = upper_median_of_magnitudes(b, keys);
+      if (std::isnan(want)) {
+        EXPECT_TRUE(std::isnan(got)) << "n " << n << " kind " << kind;
+      } else {
+        EXPECT_EQ(want, got) << "n " << n << " kind " << kind;
+      }
     }
   }
 }
