@@ -39,9 +39,9 @@ void gather_rows(const Scan& scan, const ScanBeams& beams, TwistRows& rows) {
     const std::size_t first = scan.index(r, 0);
     for (std::size_t c = 0; c < cols; ++c) {
       const std::size_t i = first + c;
-      const Eigen::Vector3d& e = beams.e[i];
+      const double ex = beams.ex[i], ey = beams.ey[i];
       // Yaw rate term: e . (omega_z z x o) = omega_z (o_x e_y - o_y e_x).
-      rows.set(k, e.x(), e.y(), e.z(), ox[c] * e.y() - oy[c] * e.x(), scan.radial_velocity_mps[i],
+      rows.set(k, ex, ey, beams.ez[i], ox[c] * ey - oy[c] * ex, scan.radial_velocity_mps[i],
                static_cast<std::uint16_t>(cell_row + cell_col[c]));
       k += scan.valid[i] != 0 ? 1 : 0;
     }

@@ -67,11 +67,11 @@ bool merge_fragments(const Scan& scan, const std::vector<VelocityRows>& rows, co
 // origin (hx, hy, hz per column), exceeds ms2 = moving_sigma^2 variances, the variance being the
 // sensor's sigma2 and the twist's covariance c (row-major) along the beam. The sums run in the
 // order Eigen's e.dot(h) and e.dot(cov * e) take (the results are the same bit for bit).
-FMCW_VECTOR_CLONES void moving_row(std::size_t cols, const std::uint8_t* valid, const float* v, const double* e,
-                                   const double* hx, const double* hy, const double* hz, const double (&c)[9],
+FMCW_VECTOR_CLONES void moving_row(std::size_t cols, const std::uint8_t* valid, const float* v, const double* ex,
+                                   const double* ey, const double* ez, const double* hx, const double* hy, const double* hz, const double (&c)[9],
                                    double sigma2, double ms2, std::uint8_t* moving) {
   for (std::size_t k = 0; k < cols; ++k) {
-    const double e0 = e[3 * k], e1 = e[3 * k + 1], e2 = e[3 * k + 2];
+    const double e0 = ex[k], e1 = ey[k], e2 = ez[k];
     const double residual = static_cast<double>(v[k]) + ((e0 * hx[k] + e1 * hy[k]) + e2 * hz[k]);
     const double c0 = c[0] * e0 + c[1] * e1 + c[2] * e2;
     const double c1 = c[3] * e0 + c[4] * e1 + c[5] * e2;
@@ -98,7 +98,8 @@ std::vector<std::uint8_t> moving_mask(const Scan& scan, const ScanBeams& beams, 
   }
   for (int r = 0; r < scan.rows; ++r) {
     const std::size_t first = scan.index(r, 0);
-    moving_row(cols, scan.valid.data() + first, scan.radial_velocity_mps.data() + first, beams.e[first].data(), hx.data(),
+    moving_row(cols, scan.valid.data() + first, scan.radial_velocity_mps.data() + first, beams.ex.data() + first,
+               beams.ey.data() + first, beams.ez.data() + first, hx.data(),
                hy.data(), hz.data(), c, sigma2, ms2, moving.data() + first);
   }
   return moving;
@@ -135,7 +136,7 @@ void solve_all(const Scan& scan, const ScanBeams& beams, const std::vector<Eigen
   for (const std::uint32_t i : labelled) {
     const auto c = static_cast<std::size_t>(labels[i] - 1);
     if (!todo(c)) continue;
-    const Eigen::Vector3d& e = beams.e[i];
+    const Eigen::Vector3d e = beams.e(i);
     VelocityRows& rw = in.rows[c];
     const std::size_t q = fill[c]++;
     rw.directions[q] = e;

@@ -13,7 +13,9 @@ namespace fmcw::core {
 
 struct ScanBeams {
   std::vector<Eigen::Vector3d> origin;  ///< per column: its head's mount point, rig frame [m]
-  std::vector<Eigen::Vector3d> e;       ///< per pixel: unit direction from its origin; zero where invalid
+  /// Per pixel, by component: unit direction from its origin; zero where invalid. By component
+  /// so that the per-pixel passes load and store whole vectors of one component.
+  std::vector<double> ex, ey, ez;
   std::size_t cols = 0;
 
   ScanBeams() = default;
@@ -21,6 +23,7 @@ struct ScanBeams {
   /// Computes the beams of scan, reusing the storage.
   void assign(const Scan& scan);
   const Eigen::Vector3d& origin_of(std::size_t i) const { return origin[i % cols]; }
+  Eigen::Vector3d e(std::size_t i) const { return {ex[i], ey[i], ez[i]}; }
 };
 
 }  // namespace fmcw::core

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "../vector_clones.hpp"
+
 namespace fmcw::core::tracking {
 
 namespace {
@@ -40,6 +42,20 @@ class BoxGrid {
         for (int x = cell_x(a.x()); x <= cell_x(b.x()); ++x) cells_[index(x, y)].push_back(static_cast<std::uint32_t>(n));
       }
     }
+    listed_.resize(cells_.size());
+    for (std::size_t k = 0; k < cells_.size(); ++k) listed_[k] = cells_[k].empty() ? 0 : 1;
+  }
+  /// Per pixel i of the scan: 1 where it is static (label 0) and its world point (R p + t)
+  /// falls in a cell that lists a box, 0 elsewhere. A filter only: the cell is found with the
+  /// reciprocal of the cell size, which may put a point a rounding away from a cell border in
+  /// the neighbouring cell; every box is listed a millimetre beyond its rectangle, so the
+  /// boxes whose rectangle holds the point are listed there too.
+  void mark_candidates(const Scan& scan, const std::vector<std::int32_t>& labels, const Eigen::Matrix2d& R,
+                       const Eigen::Vector2d& t, std::vector<std::uint8_t>& out) const {
+    out.resize(labels.size());
+    const double m[6] = {R(0, 0), R(0, 1), R(1, 0), R(1, 1), t.x() - lo_.x(), t.y() - lo_.y()};
+    candidates(labels.size(), labels.data(), scan.x_m.data(), scan.y_m.data(), m, 1.0 / cell_, nx_, ny_, listed_.data(),
+               out.data());
   }
   /// The boxes to test for world point q, or none when it lies outside every box's cells.
   const std::vector<std::uint32_t>* at(const Eigen::Vector2d& q) const {
@@ -57,6 +73,19 @@ class BoxGrid {
   double cell_ = 1.0;
   int nx_ = 1, ny_ = 1;
   std::vector<std::vector<std::uint32_t>> cells_;
+  std::vector<std::uint8_t> listed_;  // per cell: 1 when it lists a box
+
+  FMCW_VECTOR_CLONES static void candidates(std::size_t n, const std::int32_t* labels, const float* x, const float* y,
+                                            const double (&m)[6], double inv_cell, int nx, int ny,
+                                            const std::uint8_t* listed, std::uint8_t* out) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const double qx = x[i], qy = y[i];
+      const double fx = (m[0] * qx + m[1] * qy + m[4]) * inv_cell, fy = (m[2] * qx + m[3] * qy + m[5]) * inv_cell;
+      const bool inside = (labels[i] == 0) & (fx >= 0.0) & (fy >= 0.0) & (fx < nx) & (fy < ny);  // false for NaN
+      const double cx = inside ? fx : 0.0, cy = inside ? fy : 0.0;  // no conversion of NaN or far values
+      out[i] = inside ? listed[static_cast<int>(cy) * nx + static_cast<int>(cx)] : 0;
+    }
+  }
 };
 
 }  // namespace
@@ -81,8 +110,10 @@ void claim_pixels(const Frame& frame, const MotionEstimate& est, const std::vect
     centres.push_back(b.centre);
   }
   const BoxGrid grid(centres, half_sides);
+  std::vector<std::uint8_t> candidate;
+  grid.mark_candidates(frame.scan, est.labels, frame.R, frame.position, candidate);
   for (std::size_t i = 0; i < est.labels.size(); ++i) {
-    if (est.labels[i] != 0) continue;
+    if (candidate[i] == 0) continue;
     const Eigen::Vector3d q = frame.scan.position(i);
     const Eigen::Vector2d qw = frame.world_xy(q);
     const std::vector<std::uint32_t>* near = grid.at(qw);

@@ -44,7 +44,7 @@ struct Frame {
   Eigen::Vector2d world_xy(const Eigen::Vector3d& q) const { return R * q.head<2>() + position; }
   Row row_of(std::uint32_t i) const {
     const Eigen::Vector3d& o = beams.origin_of(i);
-    const Eigen::Vector3d& e = beams.e[i];
+    const Eigen::Vector3d e = beams.e(i);
     Row r;
     r.e = R * e.head<2>();
     r.o = world_xy(o);
