@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "fmcw/core/check.hpp"
+#include "pixel_lists.hpp"
 
 namespace fmcw::core {
 
@@ -55,9 +56,7 @@ Segmentation label_moving_instances(const Scan& scan, const std::vector<std::uin
     valid_pixels += valid ? 1 : 0;
   }
   std::vector<std::uint32_t> pending;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (pending_at[i] != 0) pending.push_back(static_cast<std::uint32_t>(i));
-  }
+  list_pixels(n, [&](std::size_t i) { return pending_at[i] != 0; }, pending);
   // Column group of each column, for neighbours across stitched seams only.
   const std::vector<int> group_of = scan.column_group_of();
   // a = (r, c), b = (r + dr, c + dc): neighbours.

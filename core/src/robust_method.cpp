@@ -10,6 +10,7 @@
 #include "label_renumbering.hpp"
 #include "pipeline_internal.hpp"
 #include "pipeline_workspace.hpp"
+#include "pixel_lists.hpp"
 #include "vector_clones.hpp"
 
 namespace fmcw::core {
@@ -55,8 +56,9 @@ bool merge_fragments(const Scan& scan, const std::vector<VelocityRows>& rows, co
     merged = true;
   }
   if (!merged) return false;
-  for (auto& lab : labels) {
-    if (lab > 0 && target[static_cast<std::size_t>(lab)] < 0) lab = -target[static_cast<std::size_t>(lab)];
+  for (const std::uint32_t i : labelled) {
+    std::int32_t& lab = labels[i];
+    if (target[static_cast<std::size_t>(lab)] < 0) lab = -target[static_cast<std::size_t>(lab)];
   }
   return true;
 }
@@ -160,15 +162,13 @@ std::vector<ClusterEstimate> solve_instances(const Scan& scan, const ScanBeams& 
   Instances in;
   // Merging relabels instances but keeps the set of labelled pixels.
   std::vector<std::uint32_t> labelled;
-  for (std::size_t i = 0; i < labels.size(); ++i) {
-    if (labels[i] > 0) labelled.push_back(static_cast<std::uint32_t>(i));
-  }
+  list_pixels(labels.size(), [&](std::size_t i) { return labels[i] > 0; }, labelled);
   solve_all(scan, beams, head_velocity, with_ego, k, params, labels, labelled, {}, in);
   std::vector<std::uint8_t> grew(static_cast<std::size_t>(k) + 1, 0);
   if (with_ego && k > 1 && merge_fragments(scan, in.rows, in.velocity, params.instances, labelled, labels, grew)) {
     const std::vector<std::int32_t>& old = labels;
-    const std::vector<std::int32_t> key_of_new = renumber_by_first_pixel(
-        labels, static_cast<std::size_t>(k) + 1, [&](std::size_t i) { return old[i] > 0 ? old[i] : -1; });
+    const std::vector<std::int32_t> key_of_new = renumber_listed_by_first_pixel(
+        labels, labelled, static_cast<std::size_t>(k) + 1, [&](std::size_t i) { return old[i]; });
     // An instance that took no fragment has the same rows in the same order: it keeps its
     // solution (moved to its new number, which is never above its old one).
     k = static_cast<int>(key_of_new.size()) - 1;

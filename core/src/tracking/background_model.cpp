@@ -2,8 +2,19 @@
 #include <limits>
 
 #include "fmcw/core/object_tracker.hpp"
+#include "../vector_clones.hpp"
 
 namespace fmcw::core {
+
+namespace {
+// The farthest range seen per pixel; no return counts as infinitely far.
+FMCW_VECTOR_CLONES void keep_farthest(std::size_t n, const std::uint8_t* valid, const float* range, float* farthest) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const float r = valid[i] != 0 ? range[i] : std::numeric_limits<float>::infinity();
+    farthest[i] = farthest[i] < r ? r : farthest[i];  // std::max(farthest, r)
+  }
+}
+}  // namespace
 
 void BackgroundModel::reset() {
   range_m_.clear();
@@ -28,10 +39,7 @@ bool BackgroundModel::foreground(const Scan& scan, std::size_t i, double margin_
 }
 
 void BackgroundModel::add(const Scan& scan) {
-  for (std::size_t i = 0; i < scan.size(); ++i) {  // no return: the whole range empty
-    const float range = scan.valid[i] ? scan.range_m[i] : std::numeric_limits<float>::infinity();
-    range_m_[i] = std::max(range_m_[i], range);
-  }
+  keep_farthest(scan.size(), scan.valid.data(), scan.range_m.data(), range_m_.data());
   ++frames_;
 }
 

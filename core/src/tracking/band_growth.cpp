@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "../vector_clones.hpp"
 #include "track_box.hpp"
 
 namespace fmcw::core::tracking {
@@ -52,6 +53,12 @@ struct RegionGrower {
   }
 };
 
+// Taken: labelled or without a return.
+FMCW_VECTOR_CLONES void labelled_or_empty(std::size_t n, const std::int32_t* labels, const std::uint8_t* valid,
+                                          std::uint8_t* taken) {
+  for (std::size_t i = 0; i < n; ++i) taken[i] = (labels[i] != 0) | (valid[i] == 0) ? 1 : 0;
+}
+
 RegionGrower make_grower(const Frame& frame, const MotionEstimate& est, const std::vector<Group>& groups,
                          const TrackerParams::Growth& p) {
   const Scan& scan = frame.scan;
@@ -59,8 +66,8 @@ RegionGrower make_grower(const Frame& frame, const MotionEstimate& est, const st
   g.inner.assign(g.column_group.size(), 0);
   for (std::size_t c = 1; c + 1 < g.column_group.size(); ++c)
     g.inner[c] = g.column_group[c - 1] == g.column_group[c] && g.column_group[c + 1] == g.column_group[c] ? 1 : 0;
-  g.taken.assign(est.labels.size(), 0);
-  for (std::size_t i = 0; i < est.labels.size(); ++i) g.taken[i] = est.labels[i] != 0 || !scan.valid[i] ? 1 : 0;
+  g.taken.resize(est.labels.size());
+  labelled_or_empty(est.labels.size(), est.labels.data(), scan.valid.data(), g.taken.data());
   for (const Group& group : groups) {
     group.for_each_measured([&](std::uint32_t i) { g.taken[i] = 1; });
     for (const std::uint32_t i : group.labelled) g.taken[i] = 1;

@@ -42,27 +42,23 @@ class BoxGrid {
         for (int x = cell_x(a.x()); x <= cell_x(b.x()); ++x) cells_[index(x, y)].push_back(static_cast<std::uint32_t>(n));
       }
     }
-    listed_.resize(cells_.size());
-    for (std::size_t k = 0; k < cells_.size(); ++k) listed_[k] = cells_[k].empty() ? 0 : 1;
   }
-  /// Per pixel i of the scan: 1 where it is static (label 0) and its world point (R p + t)
-  /// falls in a cell that lists a box, 0 elsewhere. A filter only: the cell is found with the
+  /// Per pixel i of the scan: the cell of its world point (R p + t) where it is static (label
+  /// 0) and the cell lists a box, -1 elsewhere. A filter only: the cell is found with the
   /// reciprocal of the cell size, which may put a point a rounding away from a cell border in
   /// the neighbouring cell; every box is listed a millimetre beyond its rectangle, so the
   /// boxes whose rectangle holds the point are listed there too.
   void mark_candidates(const Scan& scan, const std::vector<std::int32_t>& labels, const Eigen::Matrix2d& R,
-                       const Eigen::Vector2d& t, std::vector<std::uint8_t>& out) const {
+                       const Eigen::Vector2d& t, std::vector<std::int32_t>& out) const {
     out.resize(labels.size());
     const double m[6] = {R(0, 0), R(0, 1), R(1, 0), R(1, 1), t.x() - lo_.x(), t.y() - lo_.y()};
-    candidates(labels.size(), labels.data(), scan.x_m.data(), scan.y_m.data(), m, 1.0 / cell_, nx_, ny_, listed_.data(),
-               out.data());
+    cells_of(labels.size(), labels.data(), scan.x_m.data(), scan.y_m.data(), m, 1.0 / cell_, nx_, ny_, out.data());
+    for (auto& cell : out) {
+      if (cell >= 0 && cells_[static_cast<std::size_t>(cell)].empty()) cell = -1;
+    }
   }
-  /// The boxes to test for world point q, or none when it lies outside every box's cells.
-  const std::vector<std::uint32_t>* at(const Eigen::Vector2d& q) const {
-    const double fx = (q.x() - lo_.x()) / cell_, fy = (q.y() - lo_.y()) / cell_;
-    if (!(fx >= 0.0 && fy >= 0.0 && fx < nx_ && fy < ny_)) return nullptr;  // also NaN
-    return &cells_[index(static_cast<int>(fx), static_cast<int>(fy))];
-  }
+  /// The boxes listed at a cell mark_candidates gave.
+  const std::vector<std::uint32_t>& listed_at(std::int32_t cell) const { return cells_[static_cast<std::size_t>(cell)]; }
 
  private:
   int cell_x(double x) const { return std::clamp(static_cast<int>(std::floor((x - lo_.x()) / cell_)), 0, nx_ - 1); }
@@ -73,17 +69,18 @@ class BoxGrid {
   double cell_ = 1.0;
   int nx_ = 1, ny_ = 1;
   std::vector<std::vector<std::uint32_t>> cells_;
-  std::vector<std::uint8_t> listed_;  // per cell: 1 when it lists a box
 
-  FMCW_VECTOR_CLONES static void candidates(std::size_t n, const std::int32_t* labels, const float* x, const float* y,
-                                            const double (&m)[6], double inv_cell, int nx, int ny,
-                                            const std::uint8_t* listed, std::uint8_t* out) {
+  FMCW_VECTOR_CLONES static void cells_of(std::size_t n, const std::int32_t* labels, const float* x, const float* y,
+                                          const double (&m)[6], double inv_cell, int nx, int ny, std::int32_t* out) {
+    const double m0 = m[0], m1 = m[1], m2 = m[2], m3 = m[3], m4 = m[4], m5 = m[5];
+    const double nxd = nx, nyd = ny;
     for (std::size_t i = 0; i < n; ++i) {
       const double qx = x[i], qy = y[i];
-      const double fx = (m[0] * qx + m[1] * qy + m[4]) * inv_cell, fy = (m[2] * qx + m[3] * qy + m[5]) * inv_cell;
-      const bool inside = (labels[i] == 0) & (fx >= 0.0) & (fy >= 0.0) & (fx < nx) & (fy < ny);  // false for NaN
+      const double fx = (m0 * qx + m1 * qy + m4) * inv_cell, fy = (m2 * qx + m3 * qy + m5) * inv_cell;
+      const bool inside = (labels[i] == 0) & (fx >= 0.0) & (fy >= 0.0) & (fx < nxd) & (fy < nyd);  // false for NaN
       const double cx = inside ? fx : 0.0, cy = inside ? fy : 0.0;  // no conversion of NaN or far values
-      out[i] = inside ? listed[static_cast<int>(cy) * nx + static_cast<int>(cx)] : 0;
+      const std::int32_t cell = static_cast<std::int32_t>(cy) * nx + static_cast<std::int32_t>(cx);
+      out[i] = inside ? cell : -1;
     }
   }
 };
@@ -110,18 +107,16 @@ void claim_pixels(const Frame& frame, const MotionEstimate& est, const std::vect
     centres.push_back(b.centre);
   }
   const BoxGrid grid(centres, half_sides);
-  std::vector<std::uint8_t> candidate;
+  std::vector<std::int32_t> candidate;
   grid.mark_candidates(frame.scan, est.labels, frame.R, frame.position, candidate);
   for (std::size_t i = 0; i < est.labels.size(); ++i) {
-    if (candidate[i] == 0) continue;
+    if (candidate[i] < 0) continue;
     const Eigen::Vector3d q = frame.scan.position(i);
     const Eigen::Vector2d qw = frame.world_xy(q);
-    const std::vector<std::uint32_t>* near = grid.at(qw);
-    if (near == nullptr) continue;
     Foreground fg = background_ready ? Foreground::kUnknown : Foreground::kNo;
     std::int32_t near_fg = -1;
     bool taken = false;
-    for (const std::uint32_t n : *near) {
+    for (const std::uint32_t n : grid.listed_at(candidate[i])) {
       const std::size_t t = carrying[n];
       const Eigen::Vector2d off = (qw - boxes[t].centre).cwiseAbs();
       if (off.x() > half_sides[n].x() || off.y() > half_sides[n].y()) continue;
