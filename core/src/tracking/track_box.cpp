@@ -210,8 +210,9 @@ BoxMeasurement measure_box(Track& tr, const Group& g, bool born, const Frame& fr
     // Measured from one end, an extent that grew grew at the other end: the box's centre, what
     // the track's position stands for, moves by half the growth away from the anchored end. The
     // prediction moves with it, so the growth is no innovation (a car entering the view would
-    // otherwise seem to slow down and, seen from the side, to turn).
-    if (!resize) {
+    // otherwise seem to slow down and, seen from the side, to turn). Not at a walker's speed: a
+    // group of walkers grows and shrinks as they part and meet, and its centre is measured.
+    if (!resize && tr.velocity().norm() > p.small.walker_max_speed_mps) {
       tr.x.head<2>() -= 0.5 * ((tr.length_m - length_before) * along.end * u + (tr.width_m - width_before) * across.end * wv);
     }
   }
