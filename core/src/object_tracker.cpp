@@ -77,6 +77,7 @@ void TrackerParams::validate() const {
   f.non_negative("range_gap_m", fragments.range_gap_m);
   f.non_negative("range_gap_fraction", fragments.range_gap_fraction);
   f.at_least("host_ratio", fragments.host_ratio, 1.0);
+  f.non_negative("small_host_ratio (0: never)", fragments.small_host_ratio);
   const FieldCheck l{"lifecycle"};
   l.at_least("confirm_hits", lifecycle.confirm_hits, 1);
   l.non_negative("max_misses", lifecycle.max_misses);

@@ -696,6 +696,8 @@ TEST(ObjectTracker, RejectsBadParametersNamingTheField) {
       {[](TrackerParams& p) { p.turning.turn_significance = 1.0; }, "tracking.turning.turn_significance"},
       {[](TrackerParams& p) { p.box.view_cut_cosine = 1.0; }, "tracking.box.view_cut_cosine must be in [0, 1), got 1"},
       {[](TrackerParams& p) { p.fragments.reach_px = 0; }, "tracking.fragments.reach_px must be >= 1, got 0"},
+      {[](TrackerParams& p) { p.fragments.small_host_ratio = -1.0; }, "tracking.fragments.small_host_ratio (0: never) must be >= 0, got -1"},
+      {[](TrackerParams& p) { p.box.occlusion_gap_m = -0.5; }, "tracking.box.occlusion_gap_m (0: no occluders) must be >= 0, got -0.5"},
   };
   for (const auto& [set, expected] : cases) {
     TrackerParams p;

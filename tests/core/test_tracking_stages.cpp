@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 
@@ -234,10 +235,11 @@ TEST(TrackingAssociation, GatesByBoxAndDoppler) {
   EXPECT_EQ(groups[0].absorbed, std::vector<std::int32_t>{2});
 }
 
-// Two confirmed vehicle tracks born in one frame from two parts of a truck (its cab and its
-// load): the truck's, 10 m long at (20, 0), and the part's, 4 m long, its centre at (23, 0.5),
-// inside the truck's box. Returns whether the part's track was merged into the truck's.
-bool part_merged(int part_last_pixels) {
+// Two confirmed tracks as old: the host, 10 m long at (20, 0) by default (a truck whose cab and
+// load were born apart in one frame), and the part's, 0.4 times as long, its centre at 0.3
+// times the host's length ahead and 0.05 times aside, inside the host's box. Returns whether the
+// part's track was merged into the host's.
+bool part_merged(int part_last_pixels, double host_length_m = 10.0, int host_last_pixels = 3000) {
   std::vector<Track> tracks(2);
   for (Track& t : tracks) {
     t.hits = 4;
@@ -245,10 +247,11 @@ bool part_merged(int part_last_pixels) {
     t.width_m = 2.5;
   }
   tracks[0].x << 20.0, 0.0, 5.0, 0.0, 0.0;
-  tracks[0].length_m = 10.0;
-  tracks[0].last_pixels = 3000;
-  tracks[1].x << 23.0, 0.5, 5.0, 0.0, 0.0;
-  tracks[1].length_m = 4.0;
+  tracks[0].length_m = host_length_m;
+  tracks[0].last_pixels = host_last_pixels;
+  tracks[0].width_m = std::min(2.5, 0.6 * host_length_m);
+  tracks[1].x << 20.0 + 0.3 * host_length_m, 0.05 * host_length_m, 5.0, 0.0, 0.0;
+  tracks[1].length_m = 0.4 * host_length_m;
   tracks[1].last_pixels = part_last_pixels;
   const std::vector<Box> boxes{box_of(tracks[0]), box_of(tracks[1])};
   std::vector<Group> groups(2);
@@ -267,6 +270,14 @@ bool part_merged(int part_last_pixels) {
 TEST(TrackingAssociation, ATrackOnAPartOfAMuchLargerVehicleAsOldAsItEnds) {
   EXPECT_TRUE(part_merged(80));     // the truck's last update found 37 times its pixels
   EXPECT_FALSE(part_merged(2000));  // two vehicles of a size: left to the split
+}
+
+TEST(TrackingAssociation, ATrackOnAWalkersLimbEndsOnlyWhenTheWalkerShowsTenTimesItsPixels) {
+  // The host a walker 1 m by 0.6 m (no vehicle) with 240 pixels, the other track's centre 0.3 m
+  // ahead of its centre, inside its box: a limb of 15 pixels ends; a walker half hidden behind
+  // it, of 80, does not.
+  EXPECT_TRUE(part_merged(15, 1.0, 240));
+  EXPECT_FALSE(part_merged(80, 1.0, 240));
 }
 
 // ---- Background model and claims ----------------------------------------------------------

@@ -243,12 +243,16 @@ void merge_nested_tracks(std::vector<Track>& tracks, const std::vector<Box>& box
                          Association& a, std::vector<Group>& groups) {
   for (std::size_t t = 0; t < tracks.size(); ++t) {
     if (groups[t].clusters.empty()) continue;
-    const int u = holding_box(boxes[t].centre, tracks, boxes, p, true, t);
+    int u = holding_box(boxes[t].centre, tracks, boxes, p, true, t);
+    const bool small_host = u < 0 && p.fragments.small_host_ratio > 0.0;
+    if (small_host) u = holding_box(boxes[t].centre, tracks, boxes, p, false, t);
     if (u < 0) continue;
     const Track& host = tracks[static_cast<std::size_t>(u)];
+    const double ratio = small_host ? p.fragments.small_host_ratio : p.fragments.host_ratio;
     // Two tracks born in one frame from two parts of a truck (the cab and its load) are as old:
     // the one that now finds a few times fewer pixels than the other follows a part.
-    const bool much_larger = host.hits >= tracks[t].hits && host.last_pixels >= p.fragments.host_ratio * tracks[t].last_pixels;
+    const bool much_larger = host.hits >= tracks[t].hits && host.last_pixels >= ratio * tracks[t].last_pixels;
+    if (small_host && !(host.confirmed && much_larger)) continue;
     if (host.hits <= tracks[t].hits && !much_larger) continue;
     if (tracks[t].vehicle(p) && tracks[t].confirmed && !much_larger) continue;  // two vehicles: leave to the split
     Group& into = groups[static_cast<std::size_t>(u)];

@@ -108,6 +108,11 @@ struct TrackerParams {
     double range_gap_m = 1.0;        ///< [m]
     double range_gap_fraction = 0.03;
     double host_ratio = 3.0;
+    /// A track whose centre lies in the box of a confirmed track that is no vehicle (a walker),
+    /// as old, whose last update found small_host_ratio times its pixels, follows a part of it
+    /// (a limb split off when the walker was first seen in two halves) and ends. Stricter than
+    /// host_ratio: a walker half hidden behind another shows a good share of its pixels. 0: never.
+    double small_host_ratio = 10.0;
   } fragments;
 
   /// A track's life.
