@@ -77,6 +77,7 @@ void TrackerParams::validate() const {
   f.non_negative("range_gap_m", fragments.range_gap_m);
   f.non_negative("range_gap_fraction", fragments.range_gap_fraction);
   f.at_least("host_ratio", fragments.host_ratio, 1.0);
+  f.non_negative("small_host_ratio (0: never)", fragments.small_host_ratio);
   const FieldCheck l{"lifecycle"};
   l.at_least("confirm_hits", lifecycle.confirm_hits, 1);
   l.non_negative("max_misses", lifecycle.max_misses);
@@ -100,6 +101,7 @@ void TrackerParams::validate() const {
   x.positive("max_width_m", box.max_width_m);
   x.positive("heading_reset_rad", box.heading_reset_rad);
   x.non_negative("view_cut_end_m", box.view_cut_end_m);
+  x.non_negative("occlusion_gap_m (0: no occluders)", box.occlusion_gap_m);
   FMCW_CHECK_ARG(box.view_cut_cosine >= 0.0 && box.view_cut_cosine < 1.0, "tracking.box.view_cut_cosine must be in [0, 1), got ",
                  box.view_cut_cosine);
 }
@@ -152,7 +154,7 @@ void ObjectTracker::update(const Scan& scan, const ScanBeams& beams, MotionEstim
   background_.begin_frame(scan, est.ego_standing);
   const Eigen::Vector3d omega(0.0, 0.0, est.ego_yaw_rate_estimated ? est.ego_angular_velocity_rps.z() : 0.0);
   const Frame frame{scan, beams, rotation(yaw_), position_, est.ego.velocity_mps, omega};
-  const ViewEdges edges(scan);
+  const ViewEdges edges(scan, p.box.occlusion_gap_m);
   std::vector<Box> boxes(tracks_.size());
   for (std::size_t t = 0; t < tracks_.size(); ++t) boxes[t] = box_of(tracks_[t]);
 

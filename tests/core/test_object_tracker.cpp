@@ -696,6 +696,8 @@ TEST(ObjectTracker, RejectsBadParametersNamingTheField) {
       {[](TrackerParams& p) { p.turning.turn_significance = 1.0; }, "tracking.turning.turn_significance"},
       {[](TrackerParams& p) { p.box.view_cut_cosine = 1.0; }, "tracking.box.view_cut_cosine must be in [0, 1), got 1"},
       {[](TrackerParams& p) { p.fragments.reach_px = 0; }, "tracking.fragments.reach_px must be >= 1, got 0"},
+      {[](TrackerParams& p) { p.fragments.small_host_ratio = -1.0; }, "tracking.fragments.small_host_ratio (0: never) must be >= 0, got -1"},
+      {[](TrackerParams& p) { p.box.occlusion_gap_m = -0.5; }, "tracking.box.occlusion_gap_m (0: no occluders) must be >= 0, got -0.5"},
   };
   for (const auto& [set, expected] : cases) {
     TrackerParams p;
@@ -784,6 +786,29 @@ TEST(ObjectTracker, APieceBesideACarWithADopplerOfItsOwnIsPartOfTheCar) {
   EXPECT_GE(2 * piece_apart, piece_frames);  // control: mostly a cluster (and a track) of its own
   EXPECT_EQ(piece_joined, piece_frames);  // with it, under the car's label every frame
   EXPECT_EQ(tracks_on_piece.size(), 1u);  // one track: the car's
+}
+
+// A car 10.25 m to the left of the standing rig drives straight towards y = 0 at 11 m/s (the
+// `t_intersection` car that the tracker took for a turning one). It enters the view at its left
+// edge (azimuth 60 degrees): for half a second more of it comes into view each frame, and the
+// middle of what is seen runs backwards along the car, while the end the sensor sees, its front,
+// moves with it.
+SyntheticBox car_entering_the_view(double t) {
+  SyntheticBox b;
+  b.center_m = Eigen::Vector3d(10.25, 21.0 - 11.0 * t, 0.8);
+  b.half_extent_m = Eigen::Vector3d(2.25, 0.9, 0.75);
+  b.yaw_rad = -M_PI / 2.0;
+  b.velocity_mps = Eigen::Vector3d(0.0, -11.0, 0.0);
+  return b;
+}
+
+TEST(ObjectTracker, ACarDrivingStraightIntoTheViewIsNotTakenForATurningOne) {
+  const SequenceErrors err = run_sequence(
+      20, 3, [&](int k) { return render_at(k, car_entering_the_view); },
+      [&](int k) { return car_entering_the_view(k * kDt).velocity_mps; });
+  EXPECT_EQ(err.untracked, 0);
+  EXPECT_LT(err.yaw_rate, 0.05);  // [rad/s]
+  EXPECT_LT(err.tracked, 0.5);    // [m/s]
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 
@@ -76,6 +77,25 @@ TEST(TrackingCtrv, PredictionTurnsTheBoxAndGrowsTheCovariance) {
 
 // ---- The box: anchoring and view cuts -----------------------------------------------------
 
+// A car track 1.8 m wide heading along +x at 5 m/s, centre (x, 15.9), `length` long.
+Track track_along_x(double x, double length) {
+  Track tr;
+  tr.x << x, 15.9, 5.0, 0.0, 0.0;
+  tr.length_m = length;
+  tr.width_m = 1.8;
+  tr.heading_rad = tr.extents_heading_rad = 0.0;
+  return tr;
+}
+
+// A group of every valid pixel of the scan, found moving.
+Group every_valid_pixel(const Scan& scan) {
+  Group g;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (scan.valid[i]) g.found.push_back(static_cast<std::uint32_t>(i));
+  }
+  return g;
+}
+
 // A car 4.5 m long, heading along +x, of which the 2 m from x = 10 to 12 show at y = 15 (the
 // rig at the origin sees its rear end, x = 10). With the rear pixel on the head's first column
 // the view cuts that end, and the box cannot be anchored there.
@@ -87,16 +107,9 @@ Eigen::Vector2d measured_centre(bool rear_on_view_edge, double predicted_x) {
   }
   const ScanBeams beams(h.scan);
   const Frame frame = standing_frame(h.scan, beams);
-  Track tr;
-  tr.x << predicted_x, 15.9, 5.0, 0.0, 0.0;
-  tr.length_m = 4.5;
-  tr.width_m = 1.8;
-  tr.heading_rad = tr.extents_heading_rad = 0.0;
-  Group g;
-  for (std::size_t i = 0; i < h.scan.size(); ++i) {
-    if (h.scan.valid[i]) g.found.push_back(static_cast<std::uint32_t>(i));
-  }
-  const BoxMeasurement m = measure_box(tr, g, false, frame, ViewEdges(h.scan), TrackerParams{});
+  Track tr = track_along_x(predicted_x, 4.5);
+  const BoxMeasurement m =
+      measure_box(tr, every_valid_pixel(h.scan), false, frame, ViewEdges(h.scan, TrackerParams{}.box.occlusion_gap_m), TrackerParams{});
   EXPECT_TRUE(m.seen);
   EXPECT_NEAR(tr.length_m, 4.5, 1e-9);  // the longest extent seen stays
   return m.centre;
@@ -124,7 +137,7 @@ TEST(TrackingBox, ViewEdgesCutAtTheHeadsColumnsAndTheTopAndBottomRows) {
   h.set(4, 9, Eigen::Vector3d(10.0, 1.0, -0.5), 0.0);   // bottom row: cut towards the sensor
   const ScanBeams beams(h.scan);
   const Frame frame = standing_frame(h.scan, beams);
-  const ViewEdges edges(h.scan);
+  const ViewEdges edges(h.scan, TrackerParams{}.box.occlusion_gap_m);
   std::vector<Cut> cuts;
   edges.add_cuts(frame, static_cast<std::uint32_t>(h.scan.index(2, 9)), Eigen::Vector2d(10.0, 1.0), cuts);
   EXPECT_TRUE(cuts.empty());
@@ -136,6 +149,44 @@ TEST(TrackingBox, ViewEdgesCutAtTheHeadsColumnsAndTheTopAndBottomRows) {
   edges.add_cuts(frame, static_cast<std::uint32_t>(h.scan.index(4, 9)), Eigen::Vector2d(10.0, 1.0), cuts);
   ASSERT_EQ(cuts.size(), 1u);
   EXPECT_LT(cuts[0].direction.x(), -0.9);  // towards the sensor
+}
+
+TEST(TrackingBox, ANeighbourInFrontCutsTheOutlineOnItsSide) {
+  // Row 2: an object 20 m ahead on columns 5 to 9, and on column 4 something at 10 m in front
+  // of it. The object's pixel beside it is cut towards column 4 (the left: column 0 is the left
+  // edge), across the beam; the one on column 9 has nothing beside it.
+  HandScan h;
+  for (int c = 5; c <= 9; ++c) h.set(2, c, Eigen::Vector3d(20.0, 0.1 * (7 - c), 0.5), 0.0);
+  h.set(2, 4, Eigen::Vector3d(10.0, 0.15, 0.5), 0.0);
+  const ScanBeams beams(h.scan);
+  const Frame frame = standing_frame(h.scan, beams);
+  std::vector<Cut> cuts;
+  const ViewEdges edges(h.scan, 1.0);
+  edges.add_cuts(frame, static_cast<std::uint32_t>(h.scan.index(2, 9)), Eigen::Vector2d(20.0, -0.2), cuts);
+  EXPECT_TRUE(cuts.empty());
+  edges.add_cuts(frame, static_cast<std::uint32_t>(h.scan.index(2, 5)), Eigen::Vector2d(20.0, 0.2), cuts);
+  ASSERT_EQ(cuts.size(), 1u);
+  EXPECT_GT(cuts[0].direction.y(), 0.99);  // to the left, across the beam along +x
+  cuts.clear();
+  ViewEdges(h.scan, 0.0).add_cuts(frame, static_cast<std::uint32_t>(h.scan.index(2, 5)), Eigen::Vector2d(20.0, 0.2), cuts);
+  EXPECT_TRUE(cuts.empty());  // 0: no occluders
+}
+
+TEST(TrackingBox, AnExtentGrowingAtTheEndNotSeenMovesThePredictionNotTheMeasurement) {
+  // A track 2 m long heading along +x, its rear (the end the rig at the origin sees) predicted
+  // at x = 10, centre 11. Now 3 m show, from 10 to 13: more of it has come into view at its
+  // front. Measured from the rear, the centre is 11.5, and the prediction moves with the box's
+  // centre, by half the growth: no innovation, as the rear is where it was predicted.
+  HandScan h;
+  for (int n = 0; n <= 12; ++n) h.set(2, 2 + n, Eigen::Vector3d(10.0 + 0.25 * n, 15.0, 0.5), 0.0);
+  const ScanBeams beams(h.scan);
+  const Frame frame = standing_frame(h.scan, beams);
+  Track tr = track_along_x(11.0, 2.0);
+  const BoxMeasurement m = measure_box(tr, every_valid_pixel(h.scan), false, frame, ViewEdges(h.scan, 0.0), TrackerParams{});
+  EXPECT_NEAR(tr.length_m, 3.0, 1e-6);
+  EXPECT_NEAR(m.centre.x(), 11.5, 1e-6);
+  EXPECT_NEAR(tr.x(0), 11.5, 1e-6);
+  EXPECT_NEAR(tr.x(1), 15.9, 1e-12);  // across, nothing grew
 }
 
 // ---- Association gating -------------------------------------------------------------------
@@ -182,6 +233,51 @@ TEST(TrackingAssociation, GatesByBoxAndDoppler) {
   EXPECT_EQ(a.absorbed[2], -1);
   EXPECT_EQ(groups[0].found, cluster_pixels[0]);
   EXPECT_EQ(groups[0].absorbed, std::vector<std::int32_t>{2});
+}
+
+// Two confirmed tracks as old: the host, 10 m long at (20, 0) by default (a truck whose cab and
+// load were born apart in one frame), and the part's, 0.4 times as long, its centre at 0.3
+// times the host's length ahead and 0.05 times aside, inside the host's box. Returns whether the
+// part's track was merged into the host's.
+bool part_merged(int part_last_pixels, double host_length_m = 10.0, int host_last_pixels = 3000) {
+  std::vector<Track> tracks(2);
+  for (Track& t : tracks) {
+    t.hits = 4;
+    t.confirmed = true;
+    t.width_m = 2.5;
+  }
+  tracks[0].x << 20.0, 0.0, 5.0, 0.0, 0.0;
+  tracks[0].length_m = host_length_m;
+  tracks[0].last_pixels = host_last_pixels;
+  tracks[0].width_m = std::min(2.5, 0.6 * host_length_m);
+  tracks[1].x << 20.0 + 0.3 * host_length_m, 0.05 * host_length_m, 5.0, 0.0, 0.0;
+  tracks[1].length_m = 0.4 * host_length_m;
+  tracks[1].last_pixels = part_last_pixels;
+  const std::vector<Box> boxes{box_of(tracks[0]), box_of(tracks[1])};
+  std::vector<Group> groups(2);
+  groups[0].clusters = {1};
+  groups[1].clusters = {2};
+  Association a;
+  a.owner = {0, 1};
+  a.absorbed = {-1, -1};
+  const TrackerParams p;
+  merge_nested_tracks(tracks, boxes, p, a, groups);
+  const bool merged = groups[1].clusters.empty() && a.absorbed[1] == 0 && tracks[1].misses > p.lifecycle.max_misses;
+  EXPECT_EQ(merged, groups[0].absorbed == std::vector<std::int32_t>{2});
+  return merged;
+}
+
+TEST(TrackingAssociation, ATrackOnAPartOfAMuchLargerVehicleAsOldAsItEnds) {
+  EXPECT_TRUE(part_merged(80));     // the truck's last update found 37 times its pixels
+  EXPECT_FALSE(part_merged(2000));  // two vehicles of a size: left to the split
+}
+
+TEST(TrackingAssociation, ATrackOnAWalkersLimbEndsOnlyWhenTheWalkerShowsTenTimesItsPixels) {
+  // The host a walker 1 m by 0.6 m (no vehicle) with 240 pixels, the other track's centre 0.3 m
+  // ahead of its centre, inside its box: a limb of 15 pixels ends; a walker half hidden behind
+  // it, of 80, does not.
+  EXPECT_TRUE(part_merged(15, 1.0, 240));
+  EXPECT_FALSE(part_merged(80, 1.0, 240));
 }
 
 // ---- Background model and claims ----------------------------------------------------------

@@ -141,11 +141,11 @@ namespace {
 // The track whose box, grown by claim_margin_m, holds the point, the nearest by box distance
 // (-1: none); only confirmed vehicles when vehicles_only.
 int holding_box(const Eigen::Vector2d& q, const std::vector<Track>& tracks, const std::vector<Box>& boxes,
-                const TrackerParams& p, bool vehicles_only) {
+                const TrackerParams& p, bool vehicles_only, std::size_t skip = std::numeric_limits<std::size_t>::max()) {
   int holder = -1;
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t t = 0; t < boxes.size(); ++t) {  // tracks without a box yet are not holders
-    if (vehicles_only && !(tracks[t].confirmed && tracks[t].vehicle(p))) continue;
+    if (t == skip || (vehicles_only && !(tracks[t].confirmed && tracks[t].vehicle(p)))) continue;
     if (!boxes[t].contains(q, p.claims.claim_margin_m)) continue;
     const double d = boxes[t].distance(q) + 1e-3 * (q - boxes[t].centre).norm();
     if (d < best) {
@@ -243,9 +243,18 @@ void merge_nested_tracks(std::vector<Track>& tracks, const std::vector<Box>& box
                          Association& a, std::vector<Group>& groups) {
   for (std::size_t t = 0; t < tracks.size(); ++t) {
     if (groups[t].clusters.empty()) continue;
-    const int u = holding_box(boxes[t].centre, tracks, boxes, p, true);
-    if (u < 0 || static_cast<std::size_t>(u) == t || tracks[static_cast<std::size_t>(u)].hits <= tracks[t].hits) continue;
-    if (tracks[t].vehicle(p) && tracks[t].confirmed) continue;  // two vehicles: leave to the split
+    int u = holding_box(boxes[t].centre, tracks, boxes, p, true, t);
+    const bool small_host = u < 0 && p.fragments.small_host_ratio > 0.0;
+    if (small_host) u = holding_box(boxes[t].centre, tracks, boxes, p, false, t);
+    if (u < 0) continue;
+    const Track& host = tracks[static_cast<std::size_t>(u)];
+    const double ratio = small_host ? p.fragments.small_host_ratio : p.fragments.host_ratio;
+    // Two tracks born in one frame from two parts of a truck (the cab and its load) are as old:
+    // the one that now finds a few times fewer pixels than the other follows a part.
+    const bool much_larger = host.hits >= tracks[t].hits && host.last_pixels >= ratio * tracks[t].last_pixels;
+    if (small_host && !(host.confirmed && much_larger)) continue;
+    if (host.hits <= tracks[t].hits && !much_larger) continue;
+    if (tracks[t].vehicle(p) && tracks[t].confirmed && !much_larger) continue;  // two vehicles: leave to the split
     Group& into = groups[static_cast<std::size_t>(u)];
     for (const std::int32_t l : groups[t].clusters) {
       into.absorbed.push_back(l);

@@ -44,7 +44,9 @@ Association associate(const Frame& frame, const std::vector<std::vector<std::uin
 /// A track whose predicted centre lies inside an older confirmed vehicle's predicted box (grown by
 /// claim_margin_m) follows a piece of that vehicle (it was born from a wheel or a part seen
 /// apart): its clusters go under the vehicle's label, unmeasured, and the track ends this frame.
-/// Two confirmed vehicles are left alone (split_shared_clusters parts them).
+/// So it does inside a vehicle as old whose last update found fragments.host_ratio times its
+/// pixels (two tracks born in one frame from the cab and the load of a truck). Two confirmed
+/// vehicles are otherwise left alone (split_shared_clusters parts them).
 void merge_nested_tracks(std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p,
                          Association& a, std::vector<Group>& groups);
 

@@ -53,7 +53,10 @@ Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, co
   tr.P.block<2, 1>(2, 4) = -s0 * s0 * sv;
   tr.P.block<1, 2>(4, 2) = -s0 * s0 * sv.transpose();
   tr.P(4, 4) = s0 * s0;
-  if (tr.small(p) && d.norm() > 0.0) small_object_prior(tr, v, cov, d, p);
+  // A small patch cut sideways by the view or an occluder, faster than a walker, may be the corner
+  // of a car coming into view: its tangential velocity and yaw rate are then no walker's.
+  const bool corner = tr.outline_cut && std::abs(v.dot(d.normalized())) > p.small.walker_max_speed_mps;
+  if (tr.small(p) && !corner && d.norm() > 0.0) small_object_prior(tr, v, cov, d, p);
   tr.hits = 1;
   tr.last_pixels = static_cast<int>(g.found.size());
   if (tr.hits >= p.lifecycle.confirm_hits) tr.confirmed = true;

@@ -24,7 +24,8 @@ Box box_of(const Track& t) {
   return b;
 }
 
-ViewEdges::ViewEdges(const Scan& scan) : edge_head_(static_cast<std::size_t>(scan.cols), -1) {
+ViewEdges::ViewEdges(const Scan& scan, double occlusion_gap_m)
+    : occlusion_gap_m_(occlusion_gap_m), edge_head_(static_cast<std::size_t>(scan.cols), -1) {
   for (std::size_t h = 0; h < scan.heads.size(); ++h) {
     edge_head_[static_cast<std::size_t>(scan.heads[h].col_begin)] = static_cast<int>(h);
     edge_head_[static_cast<std::size_t>(scan.heads[h].col_end - 1)] = static_cast<int>(h);
@@ -36,16 +37,30 @@ void ViewEdges::add_cuts(const Frame& frame, std::uint32_t i, const Eigen::Vecto
   const int c = static_cast<int>(i % static_cast<std::uint32_t>(scan.cols));
   const int r = static_cast<int>(i / static_cast<std::uint32_t>(scan.cols));
   const int head = edge_head_[static_cast<std::size_t>(c)];
-  if (head < 0 && r != 0 && r != scan.rows - 1) return;
-  const Eigen::Vector3d ray = scan.position(i) - frame.beams.origin[static_cast<std::size_t>(c)];
+  const Eigen::Vector3d& origin = frame.beams.origin[static_cast<std::size_t>(c)];
+  const Eigen::Vector3d ray = scan.position(i) - origin;
   const Eigen::Vector2d d = (frame.R * ray.head<2>()).normalized();
+  const Eigen::Vector2d left(-d.y(), d.x());  // towards the lower columns (column 0 is the left edge)
+  if (occlusion_gap_m_ > 0.0) {
+    // A neighbour in the row, in the same head, nearer by the gap: something in front hides
+    // what lies beyond this pixel on that side.
+    const double range = ray.norm();
+    const auto occludes = [&](int nc) {
+      if (nc < 0 || nc >= scan.cols) return false;
+      const std::size_t j = static_cast<std::size_t>(r) * static_cast<std::size_t>(scan.cols) + static_cast<std::size_t>(nc);
+      return scan.valid[j] && frame.beams.origin[static_cast<std::size_t>(nc)] == origin &&
+             (scan.position(j) - origin).norm() < range - occlusion_gap_m_;
+    };
+    if (occludes(c - 1)) cuts.push_back({left, at});
+    if (occludes(c + 1)) cuts.push_back({-left, at});
+  }
+  if (head < 0 && r != 0 && r != scan.rows - 1) return;
   if (head >= 0) {
     const Eigen::Vector2d axis = frame.R * scan.heads[static_cast<std::size_t>(head)].T_rig_head.linear().col(0).head<2>();
-    const Eigen::Vector2d n(-d.y(), d.x());
-    cuts.push_back({n.dot(axis) > 0.0 ? Eigen::Vector2d(-n) : n, at});
+    cuts.push_back({left.dot(axis) > 0.0 ? Eigen::Vector2d(-left) : left, at});
   }
-  if (r == scan.rows - 1) cuts.push_back({-d, at});
-  if (r == 0) cuts.push_back({d, at});
+  if (r == scan.rows - 1) cuts.push_back({-d, at, false});
+  if (r == 0) cuts.push_back({d, at, false});
 }
 
 namespace {
@@ -100,31 +115,44 @@ Outline outline_of(const std::vector<std::uint32_t>& pixels, const Frame& frame,
   return o;
 }
 
+// Where the centre is measured along one box axis: the middle of the outline, or one end of it
+// (the other end is not seen, and what grows the extent appears there).
+struct Anchor {
+  double centre = 0.0;  ///< along the axis, relative to the outline's ref [m]
+  int end = 0;          ///< -1: at lo, +1: at hi, 0: the middle or the predicted centre
+  bool cut = false;     ///< an end is cut sideways: by a head's column edge or an occluder
+};
+
 // Less than the whole size seen along an axis: the centre lies in [hi - size/2, lo + size/2].
 // An end of the outline is the body's own where the sensor sees that face or the silhouette,
 // unless the view cuts it there (a car beside the ego, its rear beyond a head's edge). Anchored
 // at such an end; with none, the predicted centre (pc, relative to ref), brought into the
 // interval, stands for the measurement. s: the sensor relative to ref.
-double anchor(const Outline& o, const Eigen::Vector2d& axis, double lo, double hi, double size, const Eigen::Vector2d& s,
+Anchor anchor(const Outline& o, const Eigen::Vector2d& axis, double lo, double hi, double size, const Eigen::Vector2d& s,
               const Eigen::Vector2d& pc, bool born, const TrackerParams::Box& p) {
-  if (hi - lo >= size) return 0.5 * (lo + hi);
   // A cut counts at the end its pixel lies at (a seam between stitched heads runs through an
   // object that spans it, away from its ends).
   const double near_end = p.view_cut_end_m + 0.05 * (hi - lo);
-  bool cut_lo = false, cut_hi = false;
+  bool cut_lo = false, cut_hi = false, sideways = false;
   for (const Cut& cut : o.cuts) {
     const double along = (cut.at - o.ref).dot(axis);
-    cut_lo = cut_lo || (cut.direction.dot(axis) < -p.view_cut_cosine && along <= lo + near_end);
-    cut_hi = cut_hi || (cut.direction.dot(axis) > p.view_cut_cosine && along >= hi - near_end);
+    const bool lo_here = cut.direction.dot(axis) < -p.view_cut_cosine && along <= lo + near_end;
+    const bool hi_here = cut.direction.dot(axis) > p.view_cut_cosine && along >= hi - near_end;
+    cut_lo = cut_lo || lo_here;
+    cut_hi = cut_hi || hi_here;
+    sideways = sideways || (cut.sideways && (lo_here || hi_here));
   }
   const double sensor = s.dot(axis);
   const bool lo_own = !cut_lo && sensor <= hi;
   const bool hi_own = !cut_hi && sensor >= lo;
-  if (lo_own && hi_own) return 0.5 * (lo + hi);
-  if (lo_own) return lo + 0.5 * size;
-  if (hi_own) return hi - 0.5 * size;
-  if (born) return 0.5 * (lo + hi);
-  return std::clamp(pc.dot(axis), hi - 0.5 * size, lo + 0.5 * size);
+  const bool cut = sideways;
+  // The whole size seen: the middle, but an end the body does not own may still hide more of it
+  // (a car entering the view grows at its cut end: the extent seen is then the largest yet).
+  if (lo_own && hi_own) return {0.5 * (lo + hi), 0, cut};
+  if (lo_own) return {lo + 0.5 * std::max(size, hi - lo), -1, cut};
+  if (hi_own) return {hi - 0.5 * std::max(size, hi - lo), 1, cut};
+  if (born || hi - lo >= size) return {0.5 * (lo + hi), 0, cut};
+  return {std::clamp(pc.dot(axis), hi - 0.5 * size, lo + 0.5 * size), 0, cut};
 }
 
 }  // namespace
@@ -150,6 +178,8 @@ BoxMeasurement measure_box(Track& tr, const Group& g, bool born, const Frame& fr
   m.seen = !pixels.empty();
   if (!m.seen) return m;
   const Outline o = outline_of(pixels, frame, edges, u, wv);
+  const double length_before = tr.length_m;
+  const double width_before = tr.width_m;
   if (!m.centre_from_claims) {
     // A walker stays small (just under small_object_m: the limbs reach out of its box).
     const double walker_cap = std::nextafter(p.small.small_object_m, 0.0);
@@ -173,8 +203,18 @@ BoxMeasurement measure_box(Track& tr, const Group& g, bool born, const Frame& fr
   } else {
     const Eigen::Vector2d s = frame.position - o.ref;  // the sensor, relative to ref
     const Eigen::Vector2d pc = tr.centre() - o.ref;
-    m.centre = o.ref + anchor(o, u, o.a0, o.a1, tr.length_m, s, pc, born, p.box) * u +
-               anchor(o, wv, o.b0, o.b1, tr.width_m, s, pc, born, p.box) * wv;
+    const Anchor along = anchor(o, u, o.a0, o.a1, tr.length_m, s, pc, born, p.box);
+    const Anchor across = anchor(o, wv, o.b0, o.b1, tr.width_m, s, pc, born, p.box);
+    m.centre = o.ref + along.centre * u + across.centre * wv;
+    tr.outline_cut = along.cut || across.cut;
+    // Measured from one end, an extent that grew grew at the other end: the box's centre, what
+    // the track's position stands for, moves by half the growth away from the anchored end. The
+    // prediction moves with it, so the growth is no innovation (a car entering the view would
+    // otherwise seem to slow down and, seen from the side, to turn). Not at a walker's speed: a
+    // group of walkers grows and shrinks as they part and meet, and its centre is measured.
+    if (!resize && tr.velocity().norm() > p.small.walker_max_speed_mps) {
+      tr.x.head<2>() -= 0.5 * ((tr.length_m - length_before) * along.end * u + (tr.width_m - width_before) * across.end * wv);
+    }
   }
   return m;
 }

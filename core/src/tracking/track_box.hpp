@@ -29,21 +29,26 @@ struct Box {
 Box box_of(const Track& t);
 
 /// Where the view cuts an outline: at an edge pixel (the top and bottom rows and each head's
-/// first and last column), the direction away from the view, in the ground plane.
+/// first and last column), the direction away from the view, in the ground plane; and where
+/// something nearer beside a pixel in its row hides what lies beyond it (an occluder).
 struct Cut {
   Eigen::Vector2d direction;
   Eigen::Vector2d at;  ///< the edge pixel, world plane
+  bool sideways = true;  ///< a head's column edge or an occluder beside it, not the top or bottom row
 };
 
 class ViewEdges {
  public:
-  explicit ViewEdges(const Scan& scan);
+  /// occlusion_gap_m: TrackerParams::Box::occlusion_gap_m (0: no occluders).
+  ViewEdges(const Scan& scan, double occlusion_gap_m);
   /// The cuts at pixel i (world point `at`), if it is on the edge: away from the head's axis at
   /// a column edge, towards the sensor at the bottom row (row 0 is the top; what lies lower and
-  /// nearer is unseen), away from it at the top row. A corner cuts both ways.
+  /// nearer is unseen), away from it at the top row. A corner cuts both ways. A neighbour in the
+  /// row (same head) nearer by occlusion_gap_m cuts towards its side, across the beam.
   void add_cuts(const Frame& frame, std::uint32_t i, const Eigen::Vector2d& at, std::vector<Cut>& cuts) const;
 
  private:
+  double occlusion_gap_m_ = 0.0;
   std::vector<int> edge_head_;  ///< per column, the head whose edge it is (-1 inside a head)
 };
 

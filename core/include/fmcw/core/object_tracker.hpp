@@ -108,6 +108,11 @@ struct TrackerParams {
     double range_gap_m = 1.0;        ///< [m]
     double range_gap_fraction = 0.03;
     double host_ratio = 3.0;
+    /// A track whose centre lies in the box of a confirmed track that is no vehicle (a walker),
+    /// as old, whose last update found small_host_ratio times its pixels, follows a part of it
+    /// (a limb split off when the walker was first seen in two halves) and ends. Stricter than
+    /// host_ratio: a walker half hidden behind another shows a good share of its pixels. 0: never.
+    double small_host_ratio = 10.0;
   } fragments;
 
   /// A track's life.
@@ -165,6 +170,9 @@ struct TrackerParams {
     /// in the ground plane) has a cosine beyond view_cut_cosine with the axis.
     double view_cut_cosine = 0.5;
     double view_cut_end_m = 0.25;     ///< [m]
+    /// An outline's pixel whose neighbour in the row (same head) is nearer by this is cut there
+    /// by an occluder, as by the view's edge: a car coming out from behind another [m]. 0: never.
+    double occlusion_gap_m = 1.0;
   } box;
 
   /// Throws std::invalid_argument naming the field that failed (tracking.<stage>.<field>).
@@ -192,6 +200,9 @@ struct Track {
   bool turning = false;      ///< yaw rate resolved (see TrackerParams::turn_significance)
   int small_hits = 0;        ///< consecutive updates with a box under small_object_m
   bool walker = false;       ///< see TrackerParams::walker_hits
+  /// The last box measured had an end cut sideways, by a head's column edge or an occluder: what
+  /// shows may be the corner of a larger body (a car coming into view is born as a small patch).
+  bool outline_cut = false;
 
   Eigen::Vector2d centre() const { return x.head<2>(); }
   Eigen::Vector2d velocity() const { return x.segment<2>(2); }
