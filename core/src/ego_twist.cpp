@@ -68,32 +68,47 @@ struct Score {
   }
 };
 
+// Per lane: the truncated cost and the inlier count (counted in doubles: one vector type for
+// the loop).
+struct TruncatedTerms {
+  double cost[kLanes] = {};
+  double inliers[kLanes] = {};
+};
+
+// Row k's squared residual of the twist (p0, p1, p2, p3) into out, and its terms to lane j. The
+// components come as plain pointers and the twist by value: a store to out could otherwise
+// change what a vector or an array holds, and they would be loaded again per row (scalar code).
+inline void truncated_row(const double* ex, const double* ey, const double* ez, const double* ew, const double* v,
+                          std::size_t k, std::size_t j, double p0, double p1, double p2, double p3, double t2, double* out,
+                          TruncatedTerms& terms) {
+  const double res = v[k] + ex[k] * p0 + ey[k] * p1 + ez[k] * p2 + ew[k] * p3;
+  const double q = res * res;
+  out[k] = q;
+  const double inlier = q < t2 ? 1.0 : 0.0;
+  terms.cost[j] += q < t2 ? q : t2;
+  terms.inliers[j] += inlier;
+}
+
 // The squared residuals of twist p into out, their truncated sum and the inlier count, point k in
-// lane k % kLanes (vector_clones.hpp).
+// lane k % kLanes (vector_clones.hpp). The last partial block adds to a copy of the lanes: with
+// the lanes of the whole blocks indexed by a variable there, GCC left the loop scalar.
 FMCW_VECTOR_CLONES void truncated_sums(const TwistRows& sub, const double (&p)[4], double t2, double* out, double& cost,
                                        double& inliers) {
   const std::size_t n = sub.size();
   const double *ex = sub.ex.data(), *ey = sub.ey.data(), *ez = sub.ez.data(), *ew = sub.ew.data(), *v = sub.v.data();
   const double p0 = p[0], p1 = p[1], p2 = p[2], p3 = p[3];
-  double lane_cost[kLanes] = {}, lane_inliers[kLanes] = {};
-  const auto row = [&](std::size_t k, int j) {
-    const double res = v[k] + ex[k] * p0 + ey[k] * p1 + ez[k] * p2 + ew[k] * p3;
-    const double q = res * res;
-    out[k] = q;
-    const bool inlier = q < t2;
-    lane_inliers[j] += inlier ? 1.0 : 0.0;  // counted in doubles: one vector type for the loop
-    lane_cost[j] += inlier ? q : t2;
-  };
+  TruncatedTerms whole;
   std::size_t i = 0;
   for (; i + kLanes <= n; i += kLanes) {
-    for (int j = 0; j < kLanes; ++j) row(i + static_cast<std::size_t>(j), j);
+    for (std::size_t j = 0; j < kLanes; ++j) truncated_row(ex, ey, ez, ew, v, i + j, j, p0, p1, p2, p3, t2, out, whole);
   }
-  for (int j = 0; i < n; ++i, ++j) row(i, j);
+  TruncatedTerms all = whole;
+  for (std::size_t j = 0; i < n; ++i, ++j) truncated_row(ex, ey, ez, ew, v, i, j, p0, p1, p2, p3, t2, out, all);
   cost = 0.0;
   inliers = 0.0;
   for (int j = 0; j < kLanes; ++j) {
-    cost += lane_cost[j];
-    inliers += lane_inliers[j];
+    cost += all.cost[j];
+    inliers += all.inliers[j];
   }
 }
 
