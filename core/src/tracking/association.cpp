@@ -6,15 +6,18 @@
 #include <limits>
 
 #include "fmcw/core/median.hpp"
+#include "../pixel_lists.hpp"
 
 namespace fmcw::core::tracking {
 
 std::vector<std::vector<std::uint32_t>> pixels_of_clusters(const MotionEstimate& est) {
+  std::vector<std::uint32_t> labelled;
+  list_pixels(est.labels.size(), [&](std::size_t i) { return est.labels[i] >= 1; }, labelled);
+  std::vector<std::size_t> count(est.clusters.size(), 0);
+  for (const std::uint32_t i : labelled) ++count[static_cast<std::size_t>(est.labels[i] - 1)];
   std::vector<std::vector<std::uint32_t>> cluster_pixels(est.clusters.size());
-  for (std::size_t i = 0; i < est.labels.size(); ++i) {
-    const std::int32_t l = est.labels[i];
-    if (l >= 1) cluster_pixels[static_cast<std::size_t>(l - 1)].push_back(static_cast<std::uint32_t>(i));
-  }
+  for (std::size_t c = 0; c < count.size(); ++c) cluster_pixels[c].reserve(count[c]);
+  for (const std::uint32_t i : labelled) cluster_pixels[static_cast<std::size_t>(est.labels[i] - 1)].push_back(i);
   return cluster_pixels;
 }
 

@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "../label_renumbering.hpp"
+#include "../pixel_lists.hpp"
 
 namespace fmcw::core::tracking {
 
@@ -78,10 +79,13 @@ void relabel_estimate(const Frame& frame, const std::vector<Track>& tracks, cons
     for (const std::uint32_t i : groups[t].labelled) claimed_by[i] = static_cast<std::int32_t>(t);
     for (const std::uint32_t i : groups[t].claimed) claimed_by[i] = static_cast<std::int32_t>(t);
   }
+  // The pixels of an object, now: labelled before or joining one.
+  std::vector<std::uint32_t> object_pixels;
+  list_pixels(est.labels.size(), [&](std::size_t i) { return (est.labels[i] >= 1) | (claimed_by[i] >= 0); }, object_pixels);
   // Key of a pixel's new object: group t -> t, untracked old label l -> n_groups + l - 1.
   int moved_to_moving = 0;
-  const std::vector<std::int32_t> key_of_new =
-      renumber_by_first_pixel(est.labels, n_groups + est.clusters.size(), [&](std::size_t i) -> std::int32_t {
+  const std::vector<std::int32_t> key_of_new = renumber_listed_by_first_pixel(
+      est.labels, object_pixels, n_groups + est.clusters.size(), [&](std::size_t i) -> std::int32_t {
         const std::int32_t l = est.labels[i];
         if (l >= 1) {
           const std::int32_t g = group_of_label[static_cast<std::size_t>(l)];
@@ -94,9 +98,8 @@ void relabel_estimate(const Frame& frame, const std::vector<Track>& tracks, cons
   const auto next = static_cast<std::int32_t>(key_of_new.size()) - 1;
   std::vector<ClusterEstimate> out(static_cast<std::size_t>(next));
   std::vector<int> count(static_cast<std::size_t>(next), 0);
-  for (std::size_t i = 0; i < est.labels.size(); ++i) {
+  for (const std::uint32_t i : object_pixels) {
     const std::int32_t l = est.labels[i];
-    if (l < 1) continue;
     out[static_cast<std::size_t>(l - 1)].centroid_m += frame.scan.position(i);
     ++count[static_cast<std::size_t>(l - 1)];
   }
