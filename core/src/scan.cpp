@@ -69,11 +69,23 @@ Scan Scan::make_empty(int rows, int cols) {
   return scan;
 }
 
-std::size_t Scan::num_valid() const {
-  std::size_t n = 0;
-  for (const auto v : valid) n += v ? 1 : 0;
-  return n;
+namespace {
+// Nonzero bytes of v, counted in 32-bit lanes over blocks of 2^16 (no lane overflows): a byte
+// count widened to 64 bits at once runs at a quarter of the speed.
+FMCW_VECTOR_CLONES std::size_t count_nonzero(const std::uint8_t* v, std::size_t n) {
+  constexpr std::size_t kBlock = std::size_t{1} << 16;
+  std::size_t total = 0;
+  for (std::size_t b = 0; b < n; b += kBlock) {
+    const std::size_t end = n - b < kBlock ? n : b + kBlock;
+    std::uint32_t count = 0;
+    for (std::size_t i = b; i < end; ++i) count += v[i] != 0 ? 1U : 0U;
+    total += count;
+  }
+  return total;
 }
+}  // namespace
+
+std::size_t Scan::num_valid() const { return count_nonzero(valid.data(), valid.size()); }
 
 int Scan::head_of_col(int col) const {
   for (std::size_t h = 0; h < heads.size(); ++h) {
