@@ -70,8 +70,9 @@ bool merge_fragments(const Scan& scan, const std::vector<VelocityRows>& rows, co
 // sensor's sigma2 and the twist's covariance c (row-major) along the beam. The sums run in the
 // order Eigen's e.dot(h) and e.dot(cov * e) take (the results are the same bit for bit).
 FMCW_VECTOR_CLONES void moving_row(std::size_t cols, const std::uint8_t* valid, const float* v, const double* ex,
-                                   const double* ey, const double* ez, const double* hx, const double* hy, const double* hz, const double (&c)[9],
-                                   double sigma2, double ms2, std::uint8_t* moving) {
+                                   const double* ey, const double* ez, const double* hx, const double* hy,
+                                   const double* hz, const double (&c)[9], double sigma2, double ms2,
+                                   std::uint8_t* moving) {
   for (std::size_t k = 0; k < cols; ++k) {
     const double e0 = ex[k], e1 = ey[k], e2 = ez[k];
     const double residual = static_cast<double>(v[k]) + ((e0 * hx[k] + e1 * hy[k]) + e2 * hz[k]);
@@ -101,8 +102,8 @@ std::vector<std::uint8_t> moving_mask(const Scan& scan, const ScanBeams& beams, 
   for (int r = 0; r < scan.rows; ++r) {
     const std::size_t first = scan.index(r, 0);
     moving_row(cols, scan.valid.data() + first, scan.radial_velocity_mps.data() + first, beams.ex.data() + first,
-               beams.ey.data() + first, beams.ez.data() + first, hx.data(),
-               hy.data(), hz.data(), c, sigma2, ms2, moving.data() + first);
+               beams.ey.data() + first, beams.ez.data() + first, hx.data(), hy.data(), hz.data(), c, sigma2, ms2,
+               moving.data() + first);
   }
   return moving;
 }

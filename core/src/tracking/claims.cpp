@@ -44,7 +44,7 @@ class BoxGrid {
     }
   }
   /// Per pixel i of the scan: the cell of its world point (R p + t) where it is static (label
-  /// 0) and the cell lists a box, -1 elsewhere. A filter only: the cell is found with the
+  /// 0) and inside the grid, -1 elsewhere. A filter only: the cell is found with the
   /// reciprocal of the cell size, which may put a point a rounding away from a cell border in
   /// the neighbouring cell; every box is listed a millimetre beyond its rectangle, so the
   /// boxes whose rectangle holds the point are listed there too.
@@ -53,9 +53,6 @@ class BoxGrid {
     out.resize(labels.size());
     const double m[6] = {R(0, 0), R(0, 1), R(1, 0), R(1, 1), t.x() - lo_.x(), t.y() - lo_.y()};
     cells_of(labels.size(), labels.data(), scan.x_m.data(), scan.y_m.data(), m, 1.0 / cell_, nx_, ny_, out.data());
-    for (auto& cell : out) {
-      if (cell >= 0 && cells_[static_cast<std::size_t>(cell)].empty()) cell = -1;
-    }
   }
   /// The boxes listed at a cell mark_candidates gave.
   const std::vector<std::uint32_t>& listed_at(std::int32_t cell) const { return cells_[static_cast<std::size_t>(cell)]; }
@@ -110,7 +107,7 @@ void claim_pixels(const Frame& frame, const MotionEstimate& est, const std::vect
   std::vector<std::int32_t> candidate;
   grid.mark_candidates(frame.scan, est.labels, frame.R, frame.position, candidate);
   for (std::size_t i = 0; i < est.labels.size(); ++i) {
-    if (candidate[i] < 0) continue;
+    if (candidate[i] < 0 || grid.listed_at(candidate[i]).empty()) continue;
     const Eigen::Vector3d q = frame.scan.position(i);
     const Eigen::Vector2d qw = frame.world_xy(q);
     Foreground fg = background_ready ? Foreground::kUnknown : Foreground::kNo;

@@ -47,7 +47,7 @@ void ViewEdges::add_cuts(const Frame& frame, std::uint32_t i, const Eigen::Vecto
     const double range = ray.norm();
     const auto occludes = [&](int nc) {
       if (nc < 0 || nc >= scan.cols) return false;
-      const std::size_t j = static_cast<std::size_t>(r) * static_cast<std::size_t>(scan.cols) + static_cast<std::size_t>(nc);
+      const std::size_t j = scan.index(r, nc);
       return scan.valid[j] && frame.beams.origin[static_cast<std::size_t>(nc)] == origin &&
              (scan.position(j) - origin).norm() < range - occlusion_gap_m_;
     };
@@ -145,14 +145,13 @@ Anchor anchor(const Outline& o, const Eigen::Vector2d& axis, double lo, double h
   const double sensor = s.dot(axis);
   const bool lo_own = !cut_lo && sensor <= hi;
   const bool hi_own = !cut_hi && sensor >= lo;
-  const bool cut = sideways;
   // The whole size seen: the middle, but an end the body does not own may still hide more of it
   // (a car entering the view grows at its cut end: the extent seen is then the largest yet).
-  if (lo_own && hi_own) return {0.5 * (lo + hi), 0, cut};
-  if (lo_own) return {lo + 0.5 * std::max(size, hi - lo), -1, cut};
-  if (hi_own) return {hi - 0.5 * std::max(size, hi - lo), 1, cut};
-  if (born || hi - lo >= size) return {0.5 * (lo + hi), 0, cut};
-  return {std::clamp(pc.dot(axis), hi - 0.5 * size, lo + 0.5 * size), 0, cut};
+  if (lo_own && hi_own) return {0.5 * (lo + hi), 0, sideways};
+  if (lo_own) return {lo + 0.5 * std::max(size, hi - lo), -1, sideways};
+  if (hi_own) return {hi - 0.5 * std::max(size, hi - lo), 1, sideways};
+  if (born || hi - lo >= size) return {0.5 * (lo + hi), 0, sideways};
+  return {std::clamp(pc.dot(axis), hi - 0.5 * size, lo + 0.5 * size), 0, sideways};
 }
 
 }  // namespace
