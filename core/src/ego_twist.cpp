@@ -5,6 +5,7 @@
 #include <Eigen/LU>
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include "fmcw/core/check.hpp"
 #include "fmcw/core/random.hpp"
@@ -18,6 +19,22 @@ namespace {
 constexpr int kCellCols = 24;  // coverage grid over the image
 constexpr int kCellRows = 6;
 
+// The rows of one image row whose pixels are all valid, written from slot 0 of the r* arrays.
+FMCW_VECTOR_CLONES void full_row(std::size_t cols, const double* __restrict ex, const double* __restrict ey,
+                                 const double* __restrict ez, const float* __restrict v, const double* __restrict ox,
+                                 const double* __restrict oy, const std::uint16_t* __restrict cell_col, std::uint16_t cell_row,
+                                 double* __restrict rx, double* __restrict ry, double* __restrict rz, double* __restrict rw,
+                                 double* __restrict rv, std::uint16_t* __restrict rc) {
+  for (std::size_t c = 0; c < cols; ++c) {
+    rx[c] = ex[c];
+    ry[c] = ey[c];
+    rz[c] = ez[c];
+    rw[c] = ox[c] * ey[c] - oy[c] * ex[c];  // the yaw-rate term, as in gather_rows
+    rv[c] = static_cast<double>(v[c]);
+    rc[c] = static_cast<std::uint16_t>(cell_row + cell_col[c]);
+  }
+}
+
 void gather_rows(const Scan& scan, const ScanBeams& beams, TwistRows& rows) {
   const std::size_t cols = static_cast<std::size_t>(scan.cols);
   // Per column: the yaw-rate lever (o_x, o_y) and the grid column.
@@ -30,13 +47,21 @@ void gather_rows(const Scan& scan, const ScanBeams& beams, TwistRows& rows) {
   }
   // Every pixel is written at slot k and k advances over the valid ones only (no branch on
   // validity, which the predictor cannot learn at the edges of returns); one slot of slack
-  // takes the writes after the last valid pixel.
+  // takes the writes after the last valid pixel. A row without an invalid pixel is copied
+  // whole, in vectors: the same values in the same slots.
   const std::size_t num_valid = scan.num_valid();
   rows.resize(num_valid + 1);
   std::size_t k = 0;
   for (int r = 0; r < scan.rows; ++r) {
     const auto cell_row = static_cast<std::uint16_t>((r * kCellRows / scan.rows) * kCellCols);
     const std::size_t first = scan.index(r, 0);
+    if (std::memchr(scan.valid.data() + first, 0, cols) == nullptr) {
+      full_row(cols, beams.ex.data() + first, beams.ey.data() + first, beams.ez.data() + first,
+               scan.radial_velocity_mps.data() + first, ox.data(), oy.data(), cell_col.data(), cell_row, rows.ex.data() + k,
+               rows.ey.data() + k, rows.ez.data() + k, rows.ew.data() + k, rows.v.data() + k, rows.cell.data() + k);
+      k += cols;
+      continue;
+    }
     for (std::size_t c = 0; c < cols; ++c) {
       const std::size_t i = first + c;
       const double ex = beams.ex[i], ey = beams.ey[i];

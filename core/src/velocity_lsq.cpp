@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "fmcw/core/median.hpp"
+#include "vector_clones.hpp"
 
 namespace fmcw::core {
 
@@ -177,12 +178,27 @@ VelocityEstimate solve_velocity_planar(const VelocityRows& rows) {
   return fit_planar(rows, N);
 }
 
+namespace {
+// Tukey's biweight of each residual at c: (1 - u^2)^2 with u = r / c, 0 where |u| >= 1. A row
+// of weight 0 adds +0 or -0 to the sums, which leaves them as skipping it would (a sum that
+// starts at +0 is never -0, and the rows are finite): the divisions run in vectors here, and
+// the sums without a branch per row.
+FMCW_VECTOR_CLONES void tukey_weights(const double* __restrict residual, std::size_t n, double c,
+                                      double* __restrict weight) {
+  for (std::size_t k = 0; k < n; ++k) {
+    const double u = residual[k] / c;
+    const double w = (1.0 - u * u) * (1.0 - u * u);
+    weight[k] = std::abs(u) >= 1.0 ? 0.0 : w;
+  }
+}
+}  // namespace
+
 VelocityEstimate solve_velocity_planar_robust(const VelocityRows& rows, double noise_sigma_mps, int iterations) {
   Eigen::Matrix2d N_used;  // the weighted information behind v: at first every row's
   VelocityEstimate est = fit_planar(rows, N_used);
   if (!est.valid) return est;
   const std::size_t n = rows.size();
-  std::vector<double> residual(n);
+  std::vector<double> residual(n), weight(n);
   ScaleScratch scratch;
   Eigen::Vector2d v = est.velocity_mps.head<2>();
   Eigen::Matrix2d N = Eigen::Matrix2d::Zero();
@@ -191,12 +207,9 @@ VelocityEstimate solve_velocity_planar_robust(const VelocityRows& rows, double n
     // Tukey's biweight with c = 4.685 robust standard deviations (1.4826 MAD).
     const double scale = robust_scale(residual, noise_sigma_mps, scratch);
     const double c = 4.685 * scale;
+    tukey_weights(residual.data(), n, c, weight.data());
     PlanarSums sums;
-    for (std::size_t k = 0; k < n; ++k) {
-      const double u = residual[k] / c;
-      if (std::abs(u) >= 1.0) continue;
-      sums.add((1.0 - u * u) * (1.0 - u * u), rows.directions[k], rows.targets_mps[k]);
-    }
+    for (std::size_t k = 0; k < n; ++k) sums.add(weight[k], rows.directions[k], rows.targets_mps[k]);
     N = sums.N();
     const Eigen::Vector2d g = sums.g();
     const Eigen::Vector2d next = N.ldlt().solve(g);

@@ -94,6 +94,20 @@ struct Scan {
 /// the image and in column c's group (group_of: Scan::column_group_of()); n is its index.
 template <class F>
 void for_each_neighbour(const Scan& scan, const std::vector<int>& group_of, int r, int c, F&& f) {
+  const auto col = static_cast<std::size_t>(c);
+  if (r > 0 && r + 1 < scan.rows && c > 0 && c + 1 < scan.cols && group_of[col - 1] == group_of[col] &&
+      group_of[col + 1] == group_of[col]) {
+    // Inside the image and its group: all eight, in the order of the loop below, unchecked.
+    const std::size_t i = scan.index(r, c);
+    const auto w = static_cast<std::size_t>(scan.cols);
+    for (int dr = -1; dr <= 1; ++dr) {
+      const std::size_t row = dr < 0 ? i - w : (dr > 0 ? i + w : i);
+      f(row - 1, dr, -1);
+      if (dr != 0) f(row, dr, 0);
+      f(row + 1, dr, 1);
+    }
+    return;
+  }
   for (int dr = -1; dr <= 1; ++dr) {
     for (int dc = -1; dc <= 1; ++dc) {
       const int rr = r + dr, cc = c + dc;
