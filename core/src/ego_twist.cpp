@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -19,7 +20,7 @@ namespace {
 constexpr int kCellCols = 24;  // coverage grid over the image
 constexpr int kCellRows = 6;
 
-// The rows of one image row whose pixels are all valid, written from slot 0 of the r* arrays.
+// The rows of a span of pixels that are all valid, written from slot 0 of the r* arrays.
 FMCW_VECTOR_CLONES void full_row(std::size_t cols, const double* __restrict ex, const double* __restrict ey,
                                  const double* __restrict ez, const float* __restrict v, const double* __restrict ox,
                                  const double* __restrict oy, const std::uint16_t* __restrict cell_col, std::uint16_t cell_row,
@@ -45,30 +46,47 @@ void gather_rows(const Scan& scan, const ScanBeams& beams, TwistRows& rows) {
     oy[c] = beams.origin[c].y();
     cell_col[c] = static_cast<std::uint16_t>(static_cast<int>(c) * kCellCols / scan.cols);
   }
-  // Every pixel is written at slot k and k advances over the valid ones only (no branch on
-  // validity, which the predictor cannot learn at the edges of returns); one slot of slack
-  // takes the writes after the last valid pixel. A row without an invalid pixel is copied
-  // whole, in vectors: the same values in the same slots.
+  // A span of a row is copied whole, in vectors, where all its pixels are valid (below the
+  // horizon: most of an image), skipped where none is (the sky). In the others every pixel
+  // is written at slot k and k advances over the valid ones only (no branch on validity, which
+  // the predictor cannot learn at the edges of returns); one slot of slack takes the writes
+  // after the last valid pixel. The same values land in the same slots either way.
+  constexpr std::size_t kSpan = 64;
   const std::size_t num_valid = scan.num_valid();
   rows.resize(num_valid + 1);
   std::size_t k = 0;
   for (int r = 0; r < scan.rows; ++r) {
     const auto cell_row = static_cast<std::uint16_t>((r * kCellRows / scan.rows) * kCellCols);
     const std::size_t first = scan.index(r, 0);
-    if (std::memchr(scan.valid.data() + first, 0, cols) == nullptr) {
-      full_row(cols, beams.ex.data() + first, beams.ey.data() + first, beams.ez.data() + first,
-               scan.radial_velocity_mps.data() + first, ox.data(), oy.data(), cell_col.data(), cell_row, rows.ex.data() + k,
-               rows.ey.data() + k, rows.ez.data() + k, rows.ew.data() + k, rows.v.data() + k, rows.cell.data() + k);
-      k += cols;
+    const std::uint8_t* valid = scan.valid.data() + first;
+    const auto copy = [&](std::size_t c0, std::size_t c1) {
+      const std::size_t i = first + c0;
+      full_row(c1 - c0, beams.ex.data() + i, beams.ey.data() + i, beams.ez.data() + i, scan.radial_velocity_mps.data() + i,
+               ox.data() + c0, oy.data() + c0, cell_col.data() + c0, cell_row, rows.ex.data() + k, rows.ey.data() + k,
+               rows.ez.data() + k, rows.ew.data() + k, rows.v.data() + k, rows.cell.data() + k);
+      k += c1 - c0;
+    };
+    if (std::memchr(valid, 0, cols) == nullptr) {
+      copy(0, cols);
       continue;
     }
-    for (std::size_t c = 0; c < cols; ++c) {
-      const std::size_t i = first + c;
-      const double ex = beams.ex[i], ey = beams.ey[i];
-      // Yaw rate term: e . (omega_z z x o) = omega_z (o_x e_y - o_y e_x).
-      rows.set(k, ex, ey, beams.ez[i], ox[c] * ey - oy[c] * ex, scan.radial_velocity_mps[i],
-               static_cast<std::uint16_t>(cell_row + cell_col[c]));
-      k += scan.valid[i] != 0 ? 1 : 0;
+    for (std::size_t c0 = 0; c0 < cols; c0 += kSpan) {
+      const std::size_t c1 = std::min(cols, c0 + kSpan);
+      std::uint32_t in_span = 0;
+      for (std::size_t c = c0; c < c1; ++c) in_span += valid[c] != 0 ? 1U : 0U;
+      if (in_span == c1 - c0) {
+        copy(c0, c1);
+        continue;
+      }
+      if (in_span == 0) continue;
+      for (std::size_t c = c0; c < c1; ++c) {
+        const std::size_t i = first + c;
+        const double ex = beams.ex[i], ey = beams.ey[i];
+        // Yaw rate term: e . (omega_z z x o) = omega_z (o_x e_y - o_y e_x).
+        rows.set(k, ex, ey, beams.ez[i], ox[c] * ey - oy[c] * ex, scan.radial_velocity_mps[i],
+                 static_cast<std::uint16_t>(cell_row + cell_col[c]));
+        k += valid[c] != 0 ? 1 : 0;
+      }
     }
   }
   rows.resize(num_valid);
