@@ -101,7 +101,6 @@ bool axis_information(Track& tr, const std::vector<std::uint32_t>& pixels, const
   const OutlineAxis a = outline_axis(pixels, frame, p.heading);
   if (!a.informative) return false;
   tr.axis_seen = true;
-  ++tr.axis_updates;
   const TrackerParams::Heading& ph = p.heading;
   const Eigen::Vector2d n(-a.axis.y(), a.axis.x());
   const double cut = tr.outline_cut ? ph.cut_sigma_factor : 1.0;

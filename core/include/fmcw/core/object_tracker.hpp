@@ -226,15 +226,14 @@ struct Track {
   int misses = 0;            ///< consecutive frames without one
   int slow_frames = 0;       ///< consecutive frames slower than carry_min_speed_mps
   bool confirmed = false;    ///< hits >= confirm_hits at some point
-  bool turning = false;      ///< yaw rate resolved (TrackerParams::Turning; never once the axis was measured)
+  bool turning = false;      ///< yaw rate resolved (TrackerParams::Turning; not while the axis is measured)
   int small_hits = 0;        ///< consecutive updates with a box under small_object_m
   bool walker = false;       ///< see TrackerParams::walker_hits
   /// The last box measured had an end cut sideways, by a head's column edge or an occluder: what
   /// shows may be the corner of a larger body (a car coming into view is born as a small patch).
   bool outline_cut = false;
-  /// The last update measured the outline's axis (TrackerParams::Heading); how many have.
+  /// The last update measured the outline's axis (TrackerParams::Heading).
   bool axis_seen = false;
-  int axis_updates = 0;
 
   Eigen::Vector2d centre() const { return x.head<2>(); }
   Eigen::Vector2d velocity() const { return x.segment<2>(2); }
