@@ -64,6 +64,15 @@ void TrackerParams::validate() const {
   tu.at_least("turn_significance (not below turn_release_significance)", turning.turn_significance,
               turning.turn_release_significance);
   tu.at_least("min_turn_hits", turning.min_turn_hits, 1);
+  tu.non_negative("axis_shrink_sigmas", turning.axis_shrink_sigmas);
+  const FieldCheck h{"heading"};
+  h.positive("min_length_m", heading.min_length_m);
+  h.at_least("min_aspect", heading.min_aspect, 1.0);
+  h.positive("sigma_rad", heading.sigma_rad);
+  h.non_negative("end_sigma_per_m", heading.end_sigma_per_m);
+  h.at_least("cut_sigma_factor", heading.cut_sigma_factor, 1.0);
+  h.positive("slip_sigma_mps", heading.slip_sigma_mps);
+  h.non_negative("centre_offset_fraction", heading.centre_offset_fraction);
   const FieldCheck a{"association"};
   a.non_negative("gate_m", association.gate_m);
   a.at_least("min_cluster_pixels", association.min_cluster_pixels, 3);

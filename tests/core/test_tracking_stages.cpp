@@ -10,9 +10,12 @@
 #include <complex>
 
 #include "fmcw/core/motion_pipeline.hpp"
+#include "fmcw/core/synthetic_scan.hpp"
 #include "tracking/association.hpp"
 #include "tracking/claims.hpp"
 #include "tracking/ctrv.hpp"
+#include "tracking/measurement.hpp"
+#include "tracking/outline_axis.hpp"
 #include "tracking/track_box.hpp"
 
 namespace fmcw::core::tracking {
@@ -187,6 +190,106 @@ TEST(TrackingBox, AnExtentGrowingAtTheEndNotSeenMovesThePredictionNotTheMeasurem
   EXPECT_NEAR(m.centre.x(), 11.5, 1e-6);
   EXPECT_NEAR(tr.x(0), 11.5, 1e-6);
   EXPECT_NEAR(tr.x(1), 15.9, 1e-12);  // across, nothing grew
+}
+
+// ---- The outline's axis ------------------------------------------------------------------
+
+// The pixels of one box (instance 1) on the paper rig, noise as in Table I, and its outline's axis.
+struct AxisCase {
+  fmcw::core::Frame rendered;
+  std::vector<std::uint32_t> pixels;
+};
+
+AxisCase render_box(const Eigen::Vector2d& centre, double length, double width, double yaw) {
+  SyntheticSceneParams p;
+  SyntheticBox b;
+  b.center_m = Eigen::Vector3d(centre.x(), centre.y(), 0.8);
+  b.half_extent_m = Eigen::Vector3d(0.5 * length, 0.5 * width, 0.75);
+  b.yaw_rad = yaw;
+  p.actors.push_back(b);
+  p.range_noise_m = 0.025;
+  p.velocity_noise_mps = 0.031;
+  p.seed = 7;
+  AxisCase c{render_synthetic_scan(p), {}};
+  for (std::size_t i = 0; i < c.rendered.scan.size(); ++i) {
+    if (c.rendered.scan.valid[i] && c.rendered.truth->instance[i] == 1) c.pixels.push_back(static_cast<std::uint32_t>(i));
+  }
+  return c;
+}
+
+OutlineAxis axis_of(const AxisCase& c, const TrackerParams::Heading& p = {}) {
+  const ScanBeams beams(c.rendered.scan);
+  return outline_axis(c.pixels, standing_frame(c.rendered.scan, beams), p);
+}
+
+// The angle between two axes, sign and half-turns ignored [rad].
+double axis_angle(const Eigen::Vector2d& a, double yaw) {
+  return std::acos(std::min(1.0, std::abs(a.dot(Eigen::Vector2d(std::cos(yaw), std::sin(yaw))))));
+}
+
+TEST(TrackingOutlineAxis, ACarSeenAtAnAngleShowsItsAxis) {
+  // A car 4.5 x 1.8 m, 15 m ahead and 5 m to the left, heading 30 degrees: its near side and its
+  // rear show, an L whose long arm is the body's axis.
+  const AxisCase c = render_box({15.0, 5.0}, 4.5, 1.8, 30.0 * M_PI / 180.0);
+  ASSERT_GT(c.pixels.size(), 200u);
+  const OutlineAxis a = axis_of(c);
+  EXPECT_TRUE(a.informative);
+  EXPECT_LT(axis_angle(a.axis, 30.0 * M_PI / 180.0), 1.0 * M_PI / 180.0);
+  EXPECT_NEAR(a.length_m, 4.5, 0.35);  // the far end of the near side shows at a grazing angle
+  EXPECT_NEAR(a.width_m, 1.8, 0.2);
+  TrackerParams::Heading off;
+  off.use_outline = false;
+  EXPECT_FALSE(axis_of(c, off).informative);  // the switch
+}
+
+TEST(TrackingOutlineAxis, ASquareOutlineOrARearFaceGivesNoAxis) {
+  // A square body 2.4 x 2.4 m at 40 degrees: its rectangle has no long side to tell.
+  const OutlineAxis square = axis_of(render_box({15.0, 5.0}, 2.4, 2.4, 40.0 * M_PI / 180.0));
+  EXPECT_FALSE(square.informative);
+  EXPECT_NEAR(square.length_m, 2.4, 0.25);
+  // A car straight ahead, driving away: only its rear shows, a line 1.8 m long across the body.
+  // Its long side is the body's width, not its length: shorter than min_length_m, no axis.
+  const OutlineAxis rear = axis_of(render_box({20.0, 0.0}, 4.5, 1.8, 0.0));
+  EXPECT_FALSE(rear.informative);
+  EXPECT_LT(rear.length_m, 2.0);
+}
+
+TEST(TrackingOutlineAxis, TheAxisFixesTheYawRateTheDopplerLeavesOpen) {
+  // A track whose prior holds the line one scan leaves open: v = v_app - omega z x (o - c), omega
+  // ~ N(0, 0.4^2). The car (20 m ahead, heading 30 degrees, 8 m/s, turning at 0.4 rad/s) shows
+  // v_app = v + omega z x (o - c); with its axis measured, velocity and yaw rate are found.
+  const double yaw = 30.0 * M_PI / 180.0;
+  const AxisCase c = render_box({20.0, 6.0}, 4.5, 1.8, yaw);
+  const ScanBeams beams(c.rendered.scan);
+  const Frame frame = standing_frame(c.rendered.scan, beams);
+  const Eigen::Vector2d centre(20.0, 6.0), v = 8.0 * Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
+  const double omega = 0.4, s0 = 0.4;
+  const Eigen::Vector2d sv(centre.y(), -centre.x());  // z x (o - c), o at the origin
+  Track tr;
+  tr.length_m = 4.5;
+  tr.width_m = 1.8;
+  tr.x << centre.x(), centre.y(), (v + omega * sv).x(), (v + omega * sv).y(), 0.0;
+  tr.P = Mat5::Zero();
+  tr.P.topLeftCorner<2, 2>() = 0.01 * Eigen::Matrix2d::Identity();
+  tr.P.block<2, 2>(2, 2) = 0.01 * Eigen::Matrix2d::Identity() + s0 * s0 * sv * sv.transpose();
+  tr.P.block<2, 1>(2, 4) = -s0 * s0 * sv;
+  tr.P.block<1, 2>(4, 2) = -s0 * s0 * sv.transpose();
+  tr.P(4, 4) = s0 * s0;
+  Mat5 info = Mat5::Zero();
+  Vec5 grad = Vec5::Zero();
+  ASSERT_TRUE(axis_information(tr, c.pixels, frame, TrackerParams{}, info, grad));
+  EXPECT_TRUE(tr.axis_seen);
+  information_update(tr, info, grad, TrackerParams{}.motion);
+  EXPECT_NEAR(tr.yaw_rate(), omega, 0.06);
+  EXPECT_LT((tr.velocity() - v).norm(), 1.0);
+  EXPECT_LT(std::sqrt(tr.P(4, 4)), 0.1);  // and it knows it
+  // Off: nothing is added, and the track keeps not knowing.
+  TrackerParams off;
+  off.heading.use_outline = false;
+  Mat5 none = Mat5::Zero();
+  Vec5 none_grad = Vec5::Zero();
+  EXPECT_FALSE(axis_information(tr, c.pixels, frame, off, none, none_grad));
+  EXPECT_TRUE(none.isZero());
 }
 
 // ---- Association gating -------------------------------------------------------------------

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "ctrv.hpp"
+#include "outline_axis.hpp"
 #include "fmcw/core/median.hpp"
 
 namespace fmcw::core::tracking {
@@ -89,6 +90,35 @@ void doppler_information(const DopplerRows& d, const Vec5& x, bool small, const 
 
 }  // namespace
 
+bool axis_information(Track& tr, const std::vector<std::uint32_t>& pixels, const Frame& frame, const TrackerParams& p, Mat5& info,
+                      Vec5& grad) {
+  tr.axis_seen = false;
+  // Only what moves faster than a walker: walkers side by side or in file make one cluster
+  // longer than a car, whose long side need not be the way they go. (Not only tracks whose box
+  // is already a vehicle's: a car seen first is measured along the Doppler's velocity, which a
+  // turn may have swung 50 degrees off its axis.)
+  if (tr.walker || tr.small(p) || pixels.empty() || tr.velocity().norm() <= p.small.walker_max_speed_mps) return false;
+  const OutlineAxis a = outline_axis(pixels, frame, p.heading);
+  if (!a.informative) return false;
+  tr.axis_seen = true;
+  const TrackerParams::Heading& ph = p.heading;
+  const Eigen::Vector2d n(-a.axis.y(), a.axis.x());
+  const double cut = tr.outline_cut ? ph.cut_sigma_factor : 1.0;
+  const double range = (a.at - frame.position).norm();
+  const double end = ph.end_sigma_per_m * range / a.length_m;
+  const double heading_var = cut * cut * (ph.sigma_rad * ph.sigma_rad + end * end);
+  const double speed = tr.velocity().norm();
+  const double lateral = ph.centre_offset_fraction * a.length_m * std::abs(tr.yaw_rate());
+  const double var = speed * speed * heading_var + ph.slip_sigma_mps * ph.slip_sigma_mps + lateral * lateral;
+  // Huber-weighted beyond 3 standard deviations of the innovation, as the centre is.
+  const double innovation = -n.dot(tr.velocity());
+  const double spread = std::sqrt(n.dot(tr.P.block<2, 2>(2, 2) * n) + var);
+  const double w = std::min(1.0, 3.0 * spread / std::max(std::abs(innovation), 1e-12)) / var;
+  info.block<2, 2>(2, 2) += w * n * n.transpose();
+  grad.segment<2>(2) += w * n * innovation;
+  return true;
+}
+
 void measure(Track& tr, const Group& whole, bool born, const Frame& frame, const ViewEdges& edges, const TrackerParams& p) {
   Group mine;
   if (tr.walker && !born) mine = walker_pixels(tr, whole, frame, p);
@@ -114,12 +144,15 @@ void measure(Track& tr, const Group& whole, bool born, const Frame& frame, const
   const double pw = box.seen ? pos_w_here * std::min(1.0, 3.0 / std::max(mahalanobis, 1e-12)) : 0.0;
   info.topLeftCorner<2, 2>() += pw * Eigen::Matrix2d::Identity();
   grad.head<2>() += pw * innovation;
+  static const std::vector<std::uint32_t> kNone;
+  axis_information(tr, g.claimed.size() <= g.found.size() ? g.found : kNone, frame, p, info, grad);
   information_update(tr, info, grad, p.motion);
 }
 
 void update_track_state(Track& tr, const Group& g, const TrackerParams& p) {
   if (g.empty()) {
     ++tr.misses;
+    tr.axis_seen = false;
   } else {
     ++tr.hits;
     tr.last_pixels = static_cast<int>(g.found.size());
@@ -130,13 +163,23 @@ void update_track_state(Track& tr, const Group& g, const TrackerParams& p) {
   const bool slow = tr.velocity().norm() < p.small.walker_max_speed_mps;
   tr.walker = slow && (tr.walker || (p.small.walker_hits > 0 && tr.small_hits >= p.small.walker_hits));
   tr.slow_frames = tr.velocity().norm() < p.lifecycle.carry_min_speed_mps ? tr.slow_frames + 1 : 0;
-  // Turning once the yaw rate is resolved on a track of some age; still turning while it stays
-  // above the minimum and turn_release_significance standard deviations (the box centre of a
-  // near car jumps as its visible side changes, the position updates are then down-weighted and
-  // the yaw rate's variance grows for a while, not its value).
+  update_turning(tr, p);
+}
+
+void update_turning(Track& tr, const TrackerParams& p) {
   const TrackerParams::Turning& pt = p.turning;
   const double w = std::abs(tr.yaw_rate());
   const double w_sigma = std::sqrt(std::max(0.0, tr.P(4, 4)));
+  // A track whose outline's axis was measured in this update reports its yaw rate shrunk by its
+  // significance instead (relabel.cpp), at any age and rate.
+  if (tr.axis_seen) {
+    tr.turning = false;
+    return;
+  }
+  // Otherwise turning once the yaw rate is resolved on a track of some age; still turning while
+  // it stays above the minimum and turn_release_significance standard deviations (the box centre
+  // of a near car jumps as its visible side changes, the position updates are then down-weighted
+  // and the yaw rate's variance grows for a while, not its value).
   tr.turning = w >= pt.min_turn_rate_rps && (tr.turning ? w >= pt.turn_release_significance * w_sigma
                                                         : tr.hits >= pt.min_turn_hits && w >= pt.turn_significance * w_sigma);
 }

@@ -16,4 +16,13 @@ void measure(Track& tr, const Group& whole, bool born, const Frame& frame, const
 /// After the frame's updates: hits or misses, confirmation, walker and turning state.
 void update_track_state(Track& tr, const Group& g, const TrackerParams& p);
 
+/// Whether the track's turn is resolved (TrackerParams::Turning).
+void update_turning(Track& tr, const TrackerParams& p);
+
+/// The outline's axis of the pixels (TrackerParams::Heading), where it is informative and the
+/// track is no walker, not small and faster than a walker, as a measurement of the velocity's direction: its information
+/// and gradient at the track's state are added. Sets Track::axis_seen; returns it.
+bool axis_information(Track& tr, const std::vector<std::uint32_t>& pixels, const Frame& frame, const TrackerParams& p, Mat5& info,
+                      Vec5& grad);
+
 }  // namespace fmcw::core::tracking

@@ -21,7 +21,8 @@ namespace {
 // The track's velocity at its centre, as reported (rig axes). The yaw rate is seen only through
 // the track's path (a rigid body turning about a fixed point has a time-invariant Doppler
 // field), and each rad/s of it moves the centre's velocity by |o - c| m/s. Unless the turn is
-// resolved, report the velocity the Doppler measures, v + omega z x (o - c), with no turn. A
+// resolved (Track::turning), report the velocity the Doppler measures, v + omega z x (o - c),
+// with no turn. A
 // small object's Doppler pins only its radial velocity, the same for v and for
 // v + omega z x (o - c): the track's own velocity is the better guess either way.
 void report_track(const Frame& frame, const Track& tr, const Group& g, const MotionEstimate& est, const TrackerParams& p,
@@ -53,8 +54,17 @@ void report_track(const Frame& frame, const Track& tr, const Group& g, const Mot
     // yaw rate taken as 0 here is off by the track's own (with its variance), and each rad/s of
     // it moves the centre's velocity by |o - c| m/s across the line of sight.
     const Eigen::Vector2d s = J.col(2);
-    cov = J * tr.P.block<3, 3>(2, 2) * J.transpose() + (tr.x(4) * tr.x(4) + tr.P(4, 4)) * s * s.transpose();
-    ce.yaw_rate_rps = 0.0;
+    // A track whose outline's axis has been measured knows its yaw rate as well as its variance
+    // says: the yaw rate, shrunk by its significance (w^2 / (w^2 + k^2 sigma^2) of it: all of a
+    // resolved turn, little of one within its noise), is taken off, and what is left of it is
+    // what the covariance carries.
+    const double w = tr.x(4);
+    const double k = p.turning.axis_shrink_sigmas;
+    const double w2 = w * w + k * k * tr.P(4, 4);
+    const double taken = tr.axis_seen && w2 > 0.0 ? w * w * w / w2 : 0.0;
+    vel -= taken * s;
+    cov = J * tr.P.block<3, 3>(2, 2) * J.transpose() + ((w - taken) * (w - taken) + tr.P(4, 4)) * s * s.transpose();
+    ce.yaw_rate_rps = taken;
   }
   v.velocity_mps = Eigen::Vector3d::Zero();
   v.velocity_mps.head<2>() = Rt * vel;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ctrv.hpp"
 #include "fragments.hpp"
 #include "measurement.hpp"
 
@@ -57,9 +58,14 @@ Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, co
   // of a car coming into view: its tangential velocity and yaw rate are then no walker's.
   const bool corner = tr.outline_cut && std::abs(v.dot(d.normalized())) > p.small.walker_max_speed_mps;
   if (tr.small(p) && !corner && d.norm() > 0.0) small_object_prior(tr, v, cov, d, p);
+  // Where the outline shows the body's axis, the prior's line of velocity and yaw rate meets it.
+  Mat5 info = Mat5::Zero();
+  Vec5 grad = Vec5::Zero();
+  if (axis_information(tr, g.found, frame, p, info, grad)) information_update(tr, info, grad, p.motion);
   tr.hits = 1;
   tr.last_pixels = static_cast<int>(g.found.size());
   if (tr.hits >= p.lifecycle.confirm_hits) tr.confirmed = true;
+  update_turning(tr, p);
   return tr;
 }
 

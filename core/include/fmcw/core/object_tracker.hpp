@@ -64,17 +64,46 @@ struct TrackerParams {
     double max_yaw_rate_rps = 1.5;        ///< bound of a track's yaw rate [rad/s]
   } motion;
 
+  /// The outline's axis as a measurement of a vehicle's heading: a vehicle drives along its body
+  /// axis, so the velocity across the axis of its outline (the long side of the rectangle
+  /// whose edges the footprint's near side lies on) is zero. One scan's Doppler fixes velocity and yaw rate only along a
+  /// line; with the direction of the velocity known, it fixes both. Measured where the long side
+  /// is at least min_length_m (longer than any vehicle is wide: it is the body's length) and
+  /// min_aspect times the short side (a square-ish outline says nothing). The noise of the
+  /// velocity across the axis: the speed times the heading's noise, a slip, and the lateral
+  /// velocity of the box's centre in a turn (a car turns about its rear axle: |omega| times
+  /// centre_offset_fraction of its length). The heading's noise: sigma_rad, and the scatter of
+  /// the outline's ends (end_sigma_per_m of the range, about a pixel's width) over its length;
+  /// times cut_sigma_factor where the view or an occluder cuts the outline.
+  struct Heading {
+    bool use_outline = true;            ///< false: the outline's axis is not measured
+    double min_length_m = 3.0;          ///< [m]
+    double min_aspect = 1.5;
+    double sigma_rad = 0.015;           ///< [rad]
+    double end_sigma_per_m = 0.004;     ///< [m per m of range]
+    double cut_sigma_factor = 1.5;
+    double slip_sigma_mps = 0.2;        ///< [m/s]
+    double centre_offset_fraction = 0.25;
+  } heading;
+
   /// A track starts turning (its velocity reported at its centre with the yaw rate) when
   /// |omega| exceeds min_turn_rate_rps and turn_significance standard deviations after at least
   /// min_turn_hits updates (a young track's yaw rate follows its box as more of the object comes
   /// into view), and stops when |omega| falls below min_turn_rate_rps or
   /// turn_release_significance standard deviations. Otherwise the velocity reported is the one
-  /// its Doppler field shows, with yaw rate 0.
+  /// its Doppler field shows, with yaw rate 0. A track whose outline's axis was measured in the
+  /// update (Heading) does not use these: its yaw rate is known as well as its variance says, and
+  /// the velocity reported is the Doppler's less the yaw rate shrunk by its significance times
+  /// z x (o - c).
   struct Turning {
     double min_turn_rate_rps = 0.05;  ///< [rad/s]
     double turn_significance = 3.0;
     double turn_release_significance = 2.0;
     int min_turn_hits = 5;
+    /// A track whose outline's axis was measured in the update: the yaw rate taken off the
+    /// Doppler's velocity is omega^3 / (omega^2 + k^2 sigma^2), k = axis_shrink_sigmas.
+    double axis_shrink_sigmas = 1.0;
+
   } turning;
 
   /// Association of clusters to tracks.
@@ -197,12 +226,14 @@ struct Track {
   int misses = 0;            ///< consecutive frames without one
   int slow_frames = 0;       ///< consecutive frames slower than carry_min_speed_mps
   bool confirmed = false;    ///< hits >= confirm_hits at some point
-  bool turning = false;      ///< yaw rate resolved (see TrackerParams::turn_significance)
+  bool turning = false;      ///< yaw rate resolved (TrackerParams::Turning; not while the axis is measured)
   int small_hits = 0;        ///< consecutive updates with a box under small_object_m
   bool walker = false;       ///< see TrackerParams::walker_hits
   /// The last box measured had an end cut sideways, by a head's column edge or an occluder: what
   /// shows may be the corner of a larger body (a car coming into view is born as a small patch).
   bool outline_cut = false;
+  /// The last update measured the outline's axis (TrackerParams::Heading).
+  bool axis_seen = false;
 
   Eigen::Vector2d centre() const { return x.head<2>(); }
   Eigen::Vector2d velocity() const { return x.segment<2>(2); }

@@ -1,0 +1,136 @@
+#include "outline_axis.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace fmcw::core::tracking {
+
+namespace {
+
+struct Extents {
+  double along = 0.0;   // along the direction at the angle [m]
+  double across = 0.0;  // across it [m]
+};
+
+Extents extents_at(const std::vector<Eigen::Vector2d>& pts, double angle) {
+  const Eigen::Vector2d u(std::cos(angle), std::sin(angle));
+  const Eigen::Vector2d w(-u.y(), u.x());
+  double a0 = std::numeric_limits<double>::infinity(), a1 = -a0, b0 = a0, b1 = -a0;
+  for (const Eigen::Vector2d& q : pts) {
+    const double a = q.dot(u);
+    const double b = q.dot(w);
+    a0 = std::min(a0, a);
+    a1 = std::max(a1, a);
+    b0 = std::min(b0, b);
+    b1 = std::max(b1, b);
+  }
+  return {a1 - a0, b1 - b0};
+}
+
+// How far the outline's near points lie from the rectangle's edges at the angle: each point's
+// distance to the nearest edge, summed. The near side of a body lies on its rectangle's edges;
+// least area alone does not tell an L from its hypotenuse (the rectangle on a right triangle's
+// hypotenuse has the area of the one on its legs).
+double edge_distance(const std::vector<Eigen::Vector2d>& near, double angle) {
+  const Eigen::Vector2d u(std::cos(angle), std::sin(angle));
+  const Eigen::Vector2d w(-u.y(), u.x());
+  double a0 = std::numeric_limits<double>::infinity(), a1 = -a0, b0 = a0, b1 = -a0;
+  for (const Eigen::Vector2d& q : near) {
+    a0 = std::min(a0, q.dot(u));
+    a1 = std::max(a1, q.dot(u));
+    b0 = std::min(b0, q.dot(w));
+    b1 = std::max(b1, q.dot(w));
+  }
+  double sum = 0.0;
+  for (const Eigen::Vector2d& q : near) {
+    const double a = q.dot(u);
+    const double b = q.dot(w);
+    sum += std::min(std::min(a - a0, a1 - a), std::min(b - b0, b1 - b));
+  }
+  return sum;
+}
+
+// The angle in [from, from + steps * step) whose edges the near points lie closest to (the first
+// of equal ones).
+double closest_edges(const std::vector<Eigen::Vector2d>& near, double from, double step, int steps) {
+  double best = from;
+  double best_sum = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < steps; ++k) {
+    const double angle = from + k * step;
+    const double sum = edge_distance(near, angle);
+    if (sum < best_sum) {
+      best_sum = sum;
+      best = angle;
+    }
+  }
+  return best;
+}
+
+// The nearest and the farthest pixel of each column (horizontal distance from the column's beam
+// origin), relative to the first pixel's position to keep the sums small: the near ones are the
+// side the sensor sees, both hold the footprint's convex hull.
+struct Candidates {
+  Eigen::Vector2d ref;
+  std::vector<Eigen::Vector2d> near;
+  std::vector<Eigen::Vector2d> all;
+};
+
+Candidates hull_candidates(const std::vector<std::uint32_t>& pixels, const Frame& frame) {
+  const auto cols = static_cast<std::uint32_t>(frame.scan.cols);
+  std::uint32_t c0 = cols, c1 = 0;
+  for (const std::uint32_t i : pixels) {
+    c0 = std::min(c0, i % cols);
+    c1 = std::max(c1, i % cols);
+  }
+  const std::size_t span = c1 - c0 + 1;
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> nearest(span, kNone), farthest(span, kNone);
+  std::vector<double> near_d(span, std::numeric_limits<double>::infinity()), far_d(span, -1.0);
+  for (const std::uint32_t i : pixels) {
+    const std::size_t c = i % cols - c0;
+    const double d = (frame.scan.position(i) - frame.beams.origin_of(i)).head<2>().norm();
+    if (d < near_d[c]) {
+      near_d[c] = d;
+      nearest[c] = i;
+    }
+    if (d > far_d[c]) {
+      far_d[c] = d;
+      farthest[c] = i;
+    }
+  }
+  Candidates out;
+  out.near.reserve(span);
+  out.all.reserve(2 * span);
+  const Eigen::Vector2d ref = frame.world_xy(frame.scan.position(pixels.front()));
+  out.ref = ref;
+  for (std::size_t c = 0; c < span; ++c) {
+    if (nearest[c] == kNone) continue;
+    out.near.push_back(frame.world_xy(frame.scan.position(nearest[c])) - ref);
+    out.all.push_back(out.near.back());
+    if (farthest[c] != nearest[c]) out.all.push_back(frame.world_xy(frame.scan.position(farthest[c])) - ref);
+  }
+  return out;
+}
+
+}  // namespace
+
+OutlineAxis outline_axis(const std::vector<std::uint32_t>& pixels, const Frame& frame, const TrackerParams::Heading& p) {
+  OutlineAxis out;
+  if (pixels.size() < 3) return out;
+  const Candidates pts = hull_candidates(pixels, frame);
+  constexpr double kDeg = M_PI / 180.0;
+  const double coarse = closest_edges(pts.near, 0.0, 3.0 * kDeg, 30);
+  const double angle = closest_edges(pts.near, coarse - 3.0 * kDeg, 0.25 * kDeg, 25);
+  const Extents e = extents_at(pts.all, angle);
+  const bool along_is_long = e.along >= e.across;
+  const double a = along_is_long ? angle : angle + 0.5 * M_PI;
+  out.axis = Eigen::Vector2d(std::cos(a), std::sin(a));
+  out.length_m = std::max(e.along, e.across);
+  out.width_m = std::min(e.along, e.across);
+  out.at = pts.ref;
+  out.informative = p.use_outline && out.length_m >= p.min_length_m && out.length_m >= p.min_aspect * out.width_m;
+  return out;
+}
+
+}  // namespace fmcw::core::tracking

@@ -1,0 +1,34 @@
+#pragma once
+// Internal to core: the axis of an object's outline in the ground plane. A vehicle drives along
+// its body axis (up to a small slip), so where its outline shows that axis, the direction of its
+// velocity is known, and one scan's Doppler field, which fixes velocity and yaw rate only along
+// a line, then fixes both (docs/METHODS.md, "The outline's axis").
+
+#include <cstdint>
+#include <vector>
+
+#include "frame.hpp"
+
+namespace fmcw::core::tracking {
+
+/// The rectangle of an outline's footprint in the tracker's world whose edges its near side lies on.
+struct OutlineAxis {
+  Eigen::Vector2d axis = Eigen::Vector2d::UnitX();  ///< along the rectangle's long side (sign arbitrary)
+  double length_m = 0.0;                            ///< the long side [m]
+  double width_m = 0.0;                             ///< the short side [m]
+  Eigen::Vector2d at = Eigen::Vector2d::Zero();     ///< a point of the outline (its first pixel's)
+  /// The long side is at least TrackerParams::Heading::min_length_m (longer than a vehicle is
+  /// wide, so it is the body's length) and min_aspect times the short one (a square-ish outline
+  /// has no axis to tell).
+  bool informative = false;
+};
+
+/// The rectangle of the pixels' ground-plane footprint along whose edges the side the sensor sees
+/// lies closest (the least sum of distances to the nearest edge; least area would not tell an L
+/// from its hypotenuse). Within one column of a head every pixel lies on one ray from the head's
+/// mount point in the ground plane: the nearest pixel of each column is the near side, the
+/// nearest and the farthest hold the footprint's convex hull, which gives the extents. Searched
+/// in 3 degree steps over a quarter turn, then in 0.25 degree steps about the best.
+OutlineAxis outline_axis(const std::vector<std::uint32_t>& pixels, const Frame& frame, const TrackerParams::Heading& p);
+
+}  // namespace fmcw::core::tracking
