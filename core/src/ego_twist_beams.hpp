@@ -9,6 +9,9 @@
 
 namespace fmcw::core {
 
+constexpr int kCellCols = 24;  // the twist's coverage grid over the image
+constexpr int kCellRows = 6;
+
 // The valid points as rows of the twist problem, a = [e, (r x e)_z], target -v, stored by
 // component so that the passes over them run two points per instruction.
 struct TwistRows {
@@ -51,6 +54,9 @@ struct EgoTwistWorkspace {
   TwistRows sub;     ///< MSAC's seeded subset
   std::vector<double> r2;
 };
+
+/// Every valid pixel's row, in image order (ego_twist_rows.cpp).
+void gather_rows(const Scan& scan, const ScanBeams& beams, TwistRows& rows);
 
 EgoTwistEstimate estimate_ego_twist(const Scan& scan, const ScanBeams& beams, const EgoTwistParams& params,
                                     std::uint64_t seed, const TwistPrior* prior, EgoTwistWorkspace& ws);
