@@ -144,8 +144,13 @@ void measure(Track& tr, const Group& whole, bool born, const Frame& frame, const
   const double pw = box.seen ? pos_w_here * std::min(1.0, 3.0 / std::max(mahalanobis, 1e-12)) : 0.0;
   info.topLeftCorner<2, 2>() += pw * Eigen::Matrix2d::Identity();
   grad.head<2>() += pw * innovation;
-  static const std::vector<std::uint32_t> kNone;
-  axis_information(tr, g.claimed.size() <= g.found.size() ? g.found : kNone, frame, p, info, grad);
+  // The axis of the found pixels, unless the claimed ones (from the background, not this scan's
+  // clusters) outnumber them.
+  if (g.claimed.size() <= g.found.size()) {
+    axis_information(tr, g.found, frame, p, info, grad);
+  } else {
+    tr.axis_seen = false;
+  }
   information_update(tr, info, grad, p.motion);
 }
 

@@ -8,45 +8,35 @@ namespace fmcw::core::tracking {
 
 namespace {
 
-struct Extents {
-  double along = 0.0;   // along the direction at the angle [m]
-  double across = 0.0;  // across it [m]
-};
-
-Extents extents_at(const std::vector<Eigen::Vector2d>& pts, double angle) {
-  const Eigen::Vector2d u(std::cos(angle), std::sin(angle));
-  const Eigen::Vector2d w(-u.y(), u.x());
+// The bounds of the points' projections on u = (cos, sin) of the angle and on w, u turned a
+// quarter to the left.
+struct Bounds {
+  Eigen::Vector2d u, w;
   double a0 = std::numeric_limits<double>::infinity(), a1 = -a0, b0 = a0, b1 = -a0;
-  for (const Eigen::Vector2d& q : pts) {
-    const double a = q.dot(u);
-    const double b = q.dot(w);
-    a0 = std::min(a0, a);
-    a1 = std::max(a1, a);
-    b0 = std::min(b0, b);
-    b1 = std::max(b1, b);
+
+  Bounds(const std::vector<Eigen::Vector2d>& pts, double angle) : u(std::cos(angle), std::sin(angle)), w(-u.y(), u.x()) {
+    for (const Eigen::Vector2d& q : pts) {
+      const double a = q.dot(u);
+      const double b = q.dot(w);
+      a0 = std::min(a0, a);
+      a1 = std::max(a1, a);
+      b0 = std::min(b0, b);
+      b1 = std::max(b1, b);
+    }
   }
-  return {a1 - a0, b1 - b0};
-}
+};
 
 // How far the outline's near points lie from the rectangle's edges at the angle: each point's
 // distance to the nearest edge, summed. The near side of a body lies on its rectangle's edges;
 // least area alone does not tell an L from its hypotenuse (the rectangle on a right triangle's
 // hypotenuse has the area of the one on its legs).
 double edge_distance(const std::vector<Eigen::Vector2d>& near, double angle) {
-  const Eigen::Vector2d u(std::cos(angle), std::sin(angle));
-  const Eigen::Vector2d w(-u.y(), u.x());
-  double a0 = std::numeric_limits<double>::infinity(), a1 = -a0, b0 = a0, b1 = -a0;
-  for (const Eigen::Vector2d& q : near) {
-    a0 = std::min(a0, q.dot(u));
-    a1 = std::max(a1, q.dot(u));
-    b0 = std::min(b0, q.dot(w));
-    b1 = std::max(b1, q.dot(w));
-  }
+  const Bounds e(near, angle);
   double sum = 0.0;
   for (const Eigen::Vector2d& q : near) {
-    const double a = q.dot(u);
-    const double b = q.dot(w);
-    sum += std::min(std::min(a - a0, a1 - a), std::min(b - b0, b1 - b));
+    const double a = q.dot(e.u);
+    const double b = q.dot(e.w);
+    sum += std::min(std::min(a - e.a0, e.a1 - a), std::min(b - e.b0, e.b1 - b));
   }
   return sum;
 }
@@ -122,12 +112,13 @@ OutlineAxis outline_axis(const std::vector<std::uint32_t>& pixels, const Frame& 
   constexpr double kDeg = M_PI / 180.0;
   const double coarse = closest_edges(pts.near, 0.0, 3.0 * kDeg, 30);
   const double angle = closest_edges(pts.near, coarse - 3.0 * kDeg, 0.25 * kDeg, 25);
-  const Extents e = extents_at(pts.all, angle);
-  const bool along_is_long = e.along >= e.across;
+  const Bounds bounds(pts.all, angle);
+  const double along = bounds.a1 - bounds.a0, across = bounds.b1 - bounds.b0;
+  const bool along_is_long = along >= across;
   const double a = along_is_long ? angle : angle + 0.5 * M_PI;
   out.axis = Eigen::Vector2d(std::cos(a), std::sin(a));
-  out.length_m = std::max(e.along, e.across);
-  out.width_m = std::min(e.along, e.across);
+  out.length_m = std::max(along, across);
+  out.width_m = std::min(along, across);
   out.at = pts.ref;
   out.informative = p.use_outline && out.length_m >= p.min_length_m && out.length_m >= p.min_aspect * out.width_m;
   return out;

@@ -22,8 +22,7 @@ namespace {
 // the track's path (a rigid body turning about a fixed point has a time-invariant Doppler
 // field), and each rad/s of it moves the centre's velocity by |o - c| m/s. Unless the turn is
 // resolved (Track::turning), report the velocity the Doppler measures, v + omega z x (o - c),
-// with no turn. A
-// small object's Doppler pins only its radial velocity, the same for v and for
+// with no turn. A small object's Doppler pins only its radial velocity, the same for v and for
 // v + omega z x (o - c): the track's own velocity is the better guess either way.
 void report_track(const Frame& frame, const Track& tr, const Group& g, const MotionEstimate& est, const TrackerParams& p,
                   ClusterEstimate& ce) {

@@ -103,7 +103,6 @@ struct TrackerParams {
     /// A track whose outline's axis was measured in the update: the yaw rate taken off the
     /// Doppler's velocity is omega^3 / (omega^2 + k^2 sigma^2), k = axis_shrink_sigmas.
     double axis_shrink_sigmas = 1.0;
-
   } turning;
 
   /// Association of clusters to tracks.
