@@ -3,10 +3,12 @@
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "fmcw/eval/table_writer.hpp"
+#include "fmcw/eval/tail_metrics.hpp"
 #include "fmcw/io/atomic_file.hpp"
 #include "report_json.hpp"
 
@@ -87,7 +89,9 @@ json method_json(const MethodSummary& s, const std::vector<TargetCheck>& checks)
           {"without_covariance", s.tails.calibration.without_covariance},
           {"partly_unobservable", s.tails.calibration.partly_unobservable},
           {"fully_unobservable", s.tails.calibration.fully_unobservable},
-          {"mean_dof", number(s.tails.calibration.mean_dof)}}}}},
+          {"mean_dof", number(s.tails.calibration.mean_dof)}}},
+        {"calibration_by_class", report_json::calibration_map_json(s.tails.calibration_by_class)},
+        {"calibration_by_track_age", report_json::calibration_map_json(s.tails.calibration_by_age)}}},
       {"tracking", tracking_json(s.tracking)},
       {"blind_zone",
        {{"actor_frames", s.blind_actor_frames},
@@ -126,13 +130,16 @@ void write_frames(const std::string& path, const EvaluationResult& r) {
 }
 
 constexpr double kDegPerRad = 180.0 / M_PI;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 void write_objects(const std::string& path, const EvaluationResult& r) {
   CsvTable t({"frame", "method", "actor", "class", "pixels", "moving_pixels", "distance_m", "evaluated", "detected",
               "estimate_valid", "cluster", "pixels_in_cluster", "cluster_pixels", "est_vx_mps", "est_vy_mps",
               "est_vz_mps", "true_vx_mps", "true_vy_mps", "true_vz_mps", "ref_vx_mps", "ref_vy_mps", "ref_vz_mps",
               "err_x_mps", "err_y_mps", "err_z_mps", "err_mps", "ref_err_mps", "true_x_m", "true_y_m",
-              "est_centre_x_m", "est_centre_y_m", "true_yaw_rate_dps", "est_yaw_rate_dps", "track_id"});
+              "est_centre_x_m", "est_centre_y_m", "true_yaw_rate_dps", "est_yaw_rate_dps", "track_id",
+              "cov_xx_m2ps2", "cov_xy_m2ps2", "cov_yy_m2ps2", "nees", "nees_dof"});
+  const double unobservable = r.params.summary.unobservable_sigma_mps;
   for (std::size_t k = 0; k < static_cast<std::size_t>(r.dataset.frames); ++k) {
     for (const auto& frames : r.frames) {
       const FrameEvaluation& f = frames[k];
@@ -144,6 +151,12 @@ void write_objects(const std::string& path, const EvaluationResult& r) {
         t.add(m.error_mps().norm()).add(m.reference_error_mps().norm());
         t.add(m.position_m.x()).add(m.position_m.y()).add(m.estimate_centre_m.x()).add(m.estimate_centre_m.y());
         t.add(m.yaw_rate_rps * kDegPerRad).add(m.estimate_yaw_rate_rps * kDegPerRad).add(m.estimate_track_id);
+        // The calibration of this estimate as objects.covariance_coverage_95 scores it (NaN and 0
+        // degrees of freedom where it is not scored).
+        const Eigen::Matrix2d cov = m.estimate_covariance.topLeftCorner<2, 2>();
+        const NeesScore n = m.estimate_valid ? score_nees(m.reference_error_mps().head<2>(), cov, unobservable) : NeesScore{};
+        const bool scored = n.has_covariance && n.dof > 0;
+        t.add(cov(0, 0)).add(cov(0, 1)).add(cov(1, 1)).add(scored ? n.nees : kNaN).add(scored ? n.dof : 0);
         t.end_row();
       }
     }

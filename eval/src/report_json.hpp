@@ -41,10 +41,30 @@ inline json error_json(const ErrorStats& e) {
           {"share_over_1mps", number(e.share_over_1mps)}};
 }
 
-inline json error_map_json(const std::map<std::string, ErrorStats>& m) {
+/// One object per group: {group: to_json(stats)}.
+template <class Stats>
+json group_map_json(const std::map<std::string, Stats>& m, json (*to_json)(const Stats&)) {
   json out = json::object();
-  for (const auto& [k, e] : m) out[k] = error_json(e);
+  for (const auto& [k, x] : m) out[k] = to_json(x);
   return out;
+}
+
+inline json error_map_json(const std::map<std::string, ErrorStats>& m) { return group_map_json(m, &error_json); }
+
+/// The calibration of a group of estimates (CalibrationStats).
+inline json calibration_json(const CalibrationStats& c) {
+  return {{"covariance_coverage_95", number(c.coverage_95)},
+          {"mean_nees", number(c.mean_nees)},
+          {"mean_dof", number(c.mean_dof)},
+          {"estimates", c.estimates},
+          {"scored", c.scored},
+          {"without_covariance", c.without_covariance},
+          {"partly_unobservable", c.partly_unobservable},
+          {"fully_unobservable", c.fully_unobservable}};
+}
+
+inline json calibration_map_json(const std::map<std::string, CalibrationStats>& m) {
+  return group_map_json(m, &calibration_json);
 }
 
 inline json mot_json(const MotMetrics& m) {

@@ -72,44 +72,67 @@ std::string distance_band(double d) {
   return "80+";
 }
 
+namespace {
+// Sums of the scored estimates of one group, turned into CalibrationStats by finish().
+struct CalibrationSums {
+  CalibrationStats c;
+  int inside = 0;
+  double nees = 0.0, dof = 0.0;
+
+  void add(const NeesScore& n) {
+    ++c.estimates;
+    if (!n.has_covariance) {
+      ++c.without_covariance;
+    } else if (n.dof == 0) {
+      ++c.fully_unobservable;
+    } else {
+      ++c.scored;
+      c.partly_unobservable += n.dof < 2 ? 1 : 0;
+      inside += n.inside_95 ? 1 : 0;
+      nees += n.nees;
+      dof += n.dof;
+    }
+  }
+  CalibrationStats finish() const {
+    CalibrationStats out = c;
+    out.coverage_95 = share(static_cast<std::size_t>(inside), static_cast<std::size_t>(c.scored));
+    out.mean_nees = c.scored == 0 ? kNaN : nees / c.scored;
+    out.mean_dof = c.scored == 0 ? kNaN : dof / c.scored;
+    return out;
+  }
+};
+}  // namespace
+
 ObjectTails object_tails(const std::vector<FrameEvaluation>& frames, const TailParams& params) {
   ObjectTails t;
   std::vector<double> large;
   std::map<std::string, std::vector<double>> by_class, by_distance, by_age;
   std::map<std::uint32_t, int> age;  // frames in which the actor has been evaluated so far
-  CalibrationStats& c = t.calibration;
-  int inside = 0;
-  double nees_sum = 0.0, dof_sum = 0.0;
+  CalibrationSums all;
+  std::map<std::string, CalibrationSums> cal_class, cal_age;
+  const std::string young = "first_" + std::to_string(params.young_updates), later = "later";
   for (const FrameEvaluation& f : frames) {
     for (const ObjectMatch& o : f.objects) {
       if (!o.evaluated) continue;
       const int a = ++age[o.actor_id];
       if (!o.estimate_valid) continue;
       const Eigen::Vector3d e = o.reference_error_mps();
-      ++c.estimates;
+      const std::string& age_key = a <= params.young_updates ? young : later;
       const NeesScore n = score_nees(e.head<2>(), o.estimate_covariance.topLeftCorner<2, 2>(), params.unobservable_sigma_mps);
-      if (!n.has_covariance) {
-        ++c.without_covariance;
-      } else if (n.dof == 0) {
-        ++c.fully_unobservable;
-      } else {
-        ++c.scored;
-        c.partly_unobservable += n.dof < 2 ? 1 : 0;
-        inside += n.inside_95 ? 1 : 0;
-        nees_sum += n.nees;
-        dof_sum += n.dof;
-      }
+      all.add(n);
+      cal_class[o.class_name].add(n);
+      cal_age[age_key].add(n);
       if (o.pixels < params.large_object_pixels) continue;
       const double err = e.norm();
       large.push_back(err);
       by_class[o.class_name].push_back(err);
       by_distance[distance_band(o.distance_m)].push_back(err);
-      by_age[a <= params.young_updates ? "first_" + std::to_string(params.young_updates) : "later"].push_back(err);
+      by_age[age_key].push_back(err);
     }
   }
-  c.coverage_95 = share(static_cast<std::size_t>(inside), static_cast<std::size_t>(c.scored));
-  c.mean_nees = c.scored == 0 ? kNaN : nees_sum / c.scored;
-  c.mean_dof = c.scored == 0 ? kNaN : dof_sum / c.scored;
+  t.calibration = all.finish();
+  for (const auto& [k, v] : cal_class) t.calibration_by_class[k] = v.finish();
+  for (const auto& [k, v] : cal_age) t.calibration_by_age[k] = v.finish();
   t.ge200 = error_stats(large);
   for (const auto& [k, v] : by_class) t.by_class[k] = error_stats(v);
   for (const auto& [k, v] : by_distance) t.by_distance[k] = error_stats(v);

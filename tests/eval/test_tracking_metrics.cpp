@@ -200,4 +200,47 @@ TEST(ObjectTails, BreaksErrorsDownByDistanceAndAge) {
   EXPECT_EQ(t.calibration.without_covariance, 8);
 }
 
+// Two classes, one overconfident (it claims a quarter of its error's variance) and one honest,
+// over a young and a later age: the breakdowns keep them apart, and all of it pools.
+TEST(ObjectTails, BreaksCalibrationDownByClassAndAge) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> n01;
+  std::vector<FrameEvaluation> frames;
+  const int n = 4000;
+  for (int k = 0; k < n; ++k) {
+    FrameEvaluation f;
+    f.method = "m";
+    for (const std::uint32_t actor : {1u, 2u}) {
+      ObjectMatch o;
+      o.actor_id = actor;
+      o.class_name = actor == 1 ? "car" : "pedestrian";
+      o.pixels = 50;
+      o.evaluated = o.detected = o.estimate_valid = true;
+      const double sd = 0.3;  // the error's true sigma per axis
+      o.estimate_mps = Eigen::Vector3d(sd * n01(rng), sd * n01(rng), 0.0);
+      o.reference_mps = Eigen::Vector3d::Zero();
+      o.estimate_covariance = Eigen::Matrix3d::Zero();
+      const double claimed = actor == 1 ? sd : 0.5 * sd;
+      o.estimate_covariance.topLeftCorner<2, 2>() = claimed * claimed * Eigen::Matrix2d::Identity();
+      f.objects.push_back(o);
+    }
+    frames.push_back(f);
+  }
+  const ObjectTails t = object_tails(frames);
+  const CalibrationStats& car = t.calibration_by_class.at("car");
+  const CalibrationStats& walker = t.calibration_by_class.at("pedestrian");
+  EXPECT_EQ(car.scored, n);
+  EXPECT_NEAR(car.coverage_95, 0.95, 0.012);
+  EXPECT_NEAR(car.mean_nees, 2.0, 0.12);
+  EXPECT_NEAR(walker.coverage_95, 1.0 - std::exp(-5.991464547107979 / 8.0), 0.02);  // 0.53
+  EXPECT_NEAR(walker.mean_nees, 8.0, 0.5);
+  // Each actor's first five frames are young: 2 x 5 estimates.
+  EXPECT_EQ(t.calibration_by_age.at("first_5").scored, 10);
+  EXPECT_EQ(t.calibration_by_age.at("later").scored, 2 * n - 10);
+  // The pooled figure is the scored-weighted mean of the classes'.
+  EXPECT_EQ(t.calibration.scored, 2 * n);
+  EXPECT_NEAR(t.calibration.coverage_95, 0.5 * (car.coverage_95 + walker.coverage_95), 1e-12);
+  EXPECT_NEAR(t.calibration.mean_nees, 0.5 * (car.mean_nees + walker.mean_nees), 1e-9);
+}
+
 }  // namespace

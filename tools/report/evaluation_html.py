@@ -238,6 +238,14 @@ def _tails_tables(data):
                                         f"({e['count']})" if e else "–")(ms[x]["objects"][key].get(g))
                              for x in methods] for g in groups]
         out.append(html_table([title + ": median / p95 [m/s] / share > 1 m/s (count)"] + head[1:], brows))
+    # Calibration per group: a coverage near 0.95 over all can hide an overconfident class
+    # beside an overcautious one.
+    for title, key in [("track age", "calibration_by_track_age"), ("class", "calibration_by_class")]:
+        groups = sorted(set(g for x in methods for g in ms[x]["objects"].get(key, {})))
+        brows = [[esc(g)] + [(lambda c: f"{fmt(c['covariance_coverage_95'], 3)} / {fmt(c['mean_nees'], 2)} "
+                                        f"({c['scored']})" if c else "–")(ms[x]["objects"].get(key, {}).get(g))
+                             for x in methods] for g in groups]
+        out.append(html_table([title + ": 95 % coverage / mean NEES (scored estimates)"] + head[1:], brows))
     classes = sorted(set(c for x in methods for c in ms[x]["tracking"]["by_class"]))
     crows = [[esc(c)] + [(lambda t: f"{fmt(t['mota'], 3)} / {fmt(t['idf1'], 3)} ({t['objects']})" if t else "–")(
         ms[x]["tracking"]["by_class"].get(c)) for x in methods] for c in classes]

@@ -64,6 +64,10 @@ struct ObjectTails {
   std::map<std::string, ErrorStats> by_age;
   /// Over every estimated object-frame (all sizes): are the reported covariances honest?
   CalibrationStats calibration;
+  /// The same by the actor's class and by track age (keys as by_class and by_age): a coverage
+  /// near 0.95 over all can hide one class overconfident and another overcautious.
+  std::map<std::string, CalibrationStats> calibration_by_class;
+  std::map<std::string, CalibrationStats> calibration_by_age;
 };
 
 /// The distance band name of a distance [m].
