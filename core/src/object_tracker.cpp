@@ -37,6 +37,12 @@ struct FieldCheck {
 
 }  // namespace
 
+int TrackerParams::Association::min_pixels_at(double range_m) const {
+  if (!(range_m > full_pixels_range_m)) return min_cluster_pixels;
+  const double q = full_pixels_range_m / range_m;
+  return std::max(min_far_cluster_pixels, static_cast<int>(std::ceil(min_cluster_pixels * q * q)));
+}
+
 void TrackerParams::validate() const {
   const FieldCheck m{"measurement"};
   m.positive("doppler_sigma_mps", measurement.doppler_sigma_mps);
@@ -76,6 +82,11 @@ void TrackerParams::validate() const {
   const FieldCheck a{"association"};
   a.non_negative("gate_m", association.gate_m);
   a.at_least("min_cluster_pixels", association.min_cluster_pixels, 3);
+  a.positive("full_pixels_range_m", association.full_pixels_range_m);
+  a.at_least("min_far_cluster_pixels", association.min_far_cluster_pixels, 3);
+  FMCW_CHECK_ARG(association.min_far_cluster_pixels <= association.min_cluster_pixels,
+                 "tracking.association.min_far_cluster_pixels must be <= min_cluster_pixels (",
+                 association.min_cluster_pixels, "), got ", association.min_far_cluster_pixels);
   a.positive("doppler_tolerance_mps", association.doppler_tolerance_mps);
   a.positive("vehicle_length_m", association.vehicle_length_m);
   a.non_negative("absorb_max_pixels", association.absorb_max_pixels);

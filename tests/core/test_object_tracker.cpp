@@ -696,6 +696,10 @@ TEST(ObjectTracker, RejectsBadParametersNamingTheField) {
       {[](TrackerParams& p) { p.turning.turn_significance = 1.0; }, "tracking.turning.turn_significance"},
       {[](TrackerParams& p) { p.box.view_cut_cosine = 1.0; }, "tracking.box.view_cut_cosine must be in [0, 1), got 1"},
       {[](TrackerParams& p) { p.fragments.reach_px = 0; }, "tracking.fragments.reach_px must be >= 1, got 0"},
+      {[](TrackerParams& p) { p.association.full_pixels_range_m = 0.0; }, "tracking.association.full_pixels_range_m must be > 0, got 0"},
+      {[](TrackerParams& p) { p.association.min_far_cluster_pixels = 2; }, "tracking.association.min_far_cluster_pixels must be >= 3, got 2"},
+      {[](TrackerParams& p) { p.association.min_far_cluster_pixels = 9; },
+       "tracking.association.min_far_cluster_pixels must be <= min_cluster_pixels (8), got 9"},
       {[](TrackerParams& p) { p.fragments.small_host_ratio = -1.0; }, "tracking.fragments.small_host_ratio (0: never) must be >= 0, got -1"},
       {[](TrackerParams& p) { p.box.occlusion_gap_m = -0.5; }, "tracking.box.occlusion_gap_m (0: no occluders) must be >= 0, got -0.5"},
       {[](TrackerParams& p) { p.heading.min_length_m = 0.0; }, "tracking.heading.min_length_m must be > 0, got 0"},
@@ -895,6 +899,54 @@ TEST(ObjectTracker, AStraightCarWhoseAxisShowsIsReportedWithoutTheTurnItCannotHa
   // Without the axis, the birth's report carries the turn one scan cannot exclude; later frames'
   // Doppler rows and centres narrow it down.
   EXPECT_GT(without[0].sigma_mps, 4.0);
+}
+
+
+// A small object (1 m long, 0.9 m tall) crossing far away at 10 m/s, range_m ahead: 4-6 pixels
+// at 120 m, as a car's rear shows 120 m away on a sparser sensor.
+std::function<SyntheticBox(double)> far_object(double range_m) {
+  return [range_m](double t) {
+    SyntheticBox b;
+    b.center_m = Eigen::Vector3d(range_m, -5.0 + 10.0 * t, 0.5);
+    b.half_extent_m = Eigen::Vector3d(0.4, 0.5, 0.45);
+    b.velocity_mps = Eigen::Vector3d(0.0, 10.0, 0.0);
+    return b;
+  };
+}
+
+// The track ids the far object's cluster carries over four frames (0: untracked) and its pixels.
+std::vector<std::pair<std::int32_t, int>> far_object_tracks(double full_pixels_range_m) {
+  MotionPipelineParams params = MotionPipelineParams::preset("tracked");
+  params.tracking.association.full_pixels_range_m = full_pixels_range_m;
+  MotionPipeline pipeline(params);
+  std::vector<std::pair<std::int32_t, int>> out;
+  for (int k = 0; k < 4; ++k) {
+    const Frame f = render_at(k, far_object(120.0));
+    const MotionEstimate e = pipeline.process(f.scan, static_cast<std::uint64_t>(k));
+    const ClusterEstimate* c = actor_cluster(f, e);
+    out.emplace_back(c == nullptr ? -1 : c->track_id, c == nullptr ? 0 : c->num_pixels);
+  }
+  return out;
+}
+
+TEST(ObjectTracker, FewerPixelsKeepATrackFarAway) {
+  const TrackerParams::Association a;
+  EXPECT_EQ(a.min_pixels_at(10.0), 8);
+  EXPECT_EQ(a.min_pixels_at(40.0), 8);
+  EXPECT_EQ(a.min_pixels_at(60.0), 4);  // 8 (40 / 60)^2 = 3.6, rounded up
+  EXPECT_EQ(a.min_pixels_at(80.0), 3);  // 2, raised to min_far_cluster_pixels
+  EXPECT_EQ(a.min_pixels_at(std::numeric_limits<double>::quiet_NaN()), 8);
+  // One track from the first frame on: its identity holds (the tracking metrics count a new
+  // identity per frame as a switch).
+  const auto tracked = far_object_tracks(a.full_pixels_range_m);
+  for (std::size_t k = 0; k < tracked.size(); ++k) {
+    EXPECT_LT(tracked[k].second, 8) << "frame " << k;  // fewer than min_cluster_pixels
+    EXPECT_GE(tracked[k].second, 3) << "frame " << k;
+    EXPECT_EQ(tracked[k].first, tracked[0].first) << "frame " << k;
+  }
+  EXPECT_GT(tracked[0].first, 0);
+  // Control: with min_cluster_pixels at every range the object is never tracked.
+  for (const auto& [id, pixels] : far_object_tracks(1e9)) EXPECT_EQ(id, 0);
 }
 
 }  // namespace

@@ -165,7 +165,7 @@ void gate_clusters(const Frame& frame, const std::vector<std::vector<std::uint32
                    const std::vector<Box>& boxes, const TrackerParams& p, Association& a) {
   const TrackerParams::Association& pa = p.association;
   for (std::size_t c = 0; c < centroid.size(); ++c) {
-    if (static_cast<int>(cluster_pixels[c].size()) < pa.min_cluster_pixels) {
+    if (static_cast<int>(cluster_pixels[c].size()) < pa.min_pixels_at((centroid[c] - frame.position).norm())) {
       // Too few pixels to measure anything: a crumb of a tracked object goes under its label.
       a.absorbed[c] = holding_box(centroid[c], tracks, boxes, p, false);
       continue;

@@ -34,7 +34,7 @@ struct Association {
 /// position) holds its centroid, whose predicted motion explains its Doppler, and that lies
 /// nearest to it; a small cluster inside a vehicle's box whose Doppler the track does not
 /// explain (a wheel) is absorbed into its label, unmeasured, and so is a cluster too small to
-/// measure (under min_cluster_pixels) inside any track's box grown by claim_margin_m. A track's nearest cluster always
+/// measure (under min_pixels_at its range) inside any track's box grown by claim_margin_m. A track's nearest cluster always
 /// joins it, further ones only from inside its box (grown by claim_margin_m, a vehicle's by the
 /// gate). Fills each track's group with its clusters and their pixels.
 Association associate(const Frame& frame, const std::vector<std::vector<std::uint32_t>>& cluster_pixels,

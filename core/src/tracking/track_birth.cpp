@@ -100,7 +100,7 @@ void birth_tracks(const Frame& frame, const ViewEdges& edges, const MotionEstima
         continue;
       }
     }
-    if (n < p.association.min_cluster_pixels || !est.clusters[c].velocity.valid) continue;
+    if (n < p.association.min_pixels_at(est.clusters[c].centroid_m.head<2>().norm()) || !est.clusters[c].velocity.valid) continue;
     const int vehicle = inside_vehicle(frame, est.clusters[c], tracks, measured_boxes, p);
     if (vehicle >= 0) {
       absorb(c, vehicle);

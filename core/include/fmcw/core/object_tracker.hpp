@@ -108,7 +108,16 @@ struct TrackerParams {
   /// Association of clusters to tracks.
   struct Association {
     double gate_m = 2.0;  ///< cluster centroid within the predicted box grown by this [m]
-    int min_cluster_pixels = 8;  ///< smaller clusters neither start nor update tracks
+    /// Smaller clusters neither start nor update tracks: min_cluster_pixels within
+    /// full_pixels_range_m of the rig, fewer beyond (min_pixels_at), as few as
+    /// min_far_cluster_pixels: a car's rear 120 m away shows 4-6 pixels, a fragment of a near
+    /// walker as many.
+    int min_cluster_pixels = 8;
+    double full_pixels_range_m = 40.0;  ///< [m]
+    int min_far_cluster_pixels = 3;
+    /// max(min_far_cluster_pixels, min_cluster_pixels (full_pixels_range_m / range)^2, rounded up):
+    /// the pixels of a given area fall with the square of the range.
+    int min_pixels_at(double range_m) const;
     /// A cluster joins a track only when the track's predicted motion explains its Doppler to
     /// within this (median over its pixels) [m/s].
     double doppler_tolerance_mps = 0.6;
