@@ -69,6 +69,14 @@ Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, co
   return tr;
 }
 
+namespace {
+// Whose pixels hold the pieces beside them: an object larger than a walker, or faster than one
+// (a car coming into view shows less than a walker's width of itself at first).
+bool holds_pieces(const Track& t, const TrackerParams& p) {
+  return !t.small(p) || (!t.walker && t.velocity().norm() > p.small.walker_max_speed_mps);
+}
+}  // namespace
+
 void birth_tracks(const Frame& frame, const ViewEdges& edges, const MotionEstimate& est,
                   const std::vector<std::vector<std::uint32_t>>& cluster_pixels, const TrackerParams& p, Association& assoc,
                   std::vector<Track>& tracks, std::vector<Group>& groups, std::int32_t& next_id) {
@@ -79,7 +87,7 @@ void birth_tracks(const Frame& frame, const ViewEdges& edges, const MotionEstima
   // Walkers side by side are as near in the image as a body and its wheel: only the pixels of
   // objects larger than a walker hold fragments.
   for (std::size_t t = 0; t < groups.size(); ++t) {
-    if (!tracks[t].small(p)) footprints.add(t, groups[t]);
+    if (holds_pieces(tracks[t], p)) footprints.add(t, groups[t]);
   }
   std::vector<std::size_t> order;
   for (std::size_t c = 0; c < est.clusters.size(); ++c) {
@@ -111,7 +119,7 @@ void birth_tracks(const Frame& frame, const ViewEdges& edges, const MotionEstima
     g.found = cluster_pixels[c];
     tracks.push_back(start_track(est.clusters[c], g, next_id++, frame, edges, p));
     assoc.owner[c] = static_cast<int>(tracks.size()) - 1;
-    if (!tracks.back().small(p)) footprints.add(groups.size(), g);
+    if (holds_pieces(tracks.back(), p)) footprints.add(groups.size(), g);
     groups.push_back(std::move(g));
   }
 }
