@@ -143,6 +143,7 @@ std::vector<NamedValue> scenario_metrics(const MethodDigest& m) {
 std::vector<TargetCheck> all_target_checks(const Targets& targets) {
   MethodSummary with_band;
   with_band.blind_band_pixels = 1;  // the blind-band target is held only where there is a band
+  with_band.tracking.vehicles.objects = 1;  // the vehicles' targets only where there are vehicles
   return check_targets(with_band, targets);
 }
 
@@ -187,6 +188,7 @@ PooledMethod pool(const std::vector<DatasetDigest>& digests, const std::string& 
     s.blind_part_detected += x.blind_part_detected;
     add_counts(s.tails.calibration, x.tails.calibration);
     add_counts(s.tracking.all, x.tracking.all);
+    add_counts(s.tracking.vehicles, x.tracking.vehicles);
     if (std::isfinite(x.mean_timing_ms.total_ms)) total_ms += x.mean_timing_ms.total_ms * x.frames;
     s.max_timing_ms.total_ms = std::max(s.max_timing_ms.total_ms, x.max_timing_ms.total_ms);
     all.insert(all.end(), md.centre_errors_mps.begin(), md.centre_errors_mps.end());
@@ -212,6 +214,7 @@ PooledMethod pool(const std::vector<DatasetDigest>& digests, const std::string& 
   s.mean_timing_ms.total_ms = ratio(total_ms, s.frames);
   finish(s.tails.calibration);
   finish(s.tracking.all);
+  finish(s.tracking.vehicles);
   p.centre = error_stats(all);
   p.centre_large = error_stats(large);
   s.median_reference_error_mps = p.centre.median;

@@ -32,6 +32,7 @@ json tracking_json(const MotReport& r) {
   json by_class = json::object();
   for (const auto& [k, m] : r.by_class) by_class[k] = report_json::mot_json(m);
   out["by_class"] = by_class;
+  out["vehicles"] = report_json::mot_json(r.vehicles);
   return out;
 }
 

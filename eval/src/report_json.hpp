@@ -97,6 +97,8 @@ inline json held_targets(const EvaluationParams& p) {
           {"coverage_95_range", json::array({t.min_coverage_95, t.max_coverage_95})},
           {"min_mota", t.min_mota},
           {"min_idf1", t.min_idf1},
+          {"min_mota_vehicles", t.min_mota_vehicles},
+          {"min_idf1_vehicles", t.min_idf1_vehicles},
           {"mot_iou_threshold", p.summary.mot_iou_threshold},
           {"blind_band_mps", p.blind_band_mps},
           {"large_object_pixels", p.summary.large_object_pixels},

@@ -139,6 +139,10 @@ std::vector<TargetCheck> check_targets(const MethodSummary& s, const Targets& t)
   at_least("tracking_mota", s.tracking.all.mota, t.min_mota);
   at_least("tracking_idf1", s.tracking.all.idf1, t.min_idf1);
   if (s.blind_band_pixels > 0) at_least("blind_zone_recall_tracked", s.blind_recall_tracked, t.min_blind_recall);
+  if (s.tracking.vehicles.objects > 0) {
+    at_least("tracking_mota_vehicles", s.tracking.vehicles.mota, t.min_mota_vehicles);
+    at_least("tracking_idf1_vehicles", s.tracking.vehicles.idf1, t.min_idf1_vehicles);
+  }
   return out;
 }
 

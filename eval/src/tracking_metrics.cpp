@@ -238,20 +238,20 @@ MotMetrics score(const std::vector<TrackingFrame>& frames, double threshold) {
   return s;
 }
 
-// The frames restricted to one class's objects and hypotheses.
-std::vector<TrackingFrame> of_class(const std::vector<TrackingFrame>& frames, const std::string& name) {
+// The frames restricted to the objects and hypotheses of the given classes.
+std::vector<TrackingFrame> of_classes(const std::vector<TrackingFrame>& frames, const std::set<std::string>& names) {
   std::vector<TrackingFrame> out;
   out.reserve(frames.size());
   for (const TrackingFrame& f : frames) {
     TrackingFrame g;
     std::vector<int> ti(f.truths.size(), -1), hi(f.tracks.size(), -1);
     for (std::size_t i = 0; i < f.truths.size(); ++i) {
-      if (f.truths[i].class_name != name) continue;
+      if (names.count(f.truths[i].class_name) == 0) continue;
       ti[i] = static_cast<int>(g.truths.size());
       g.truths.push_back(f.truths[i]);
     }
     for (std::size_t j = 0; j < f.tracks.size(); ++j) {
-      if (f.tracks[j].class_name != name) continue;
+      if (names.count(f.tracks[j].class_name) == 0) continue;
       hi[j] = static_cast<int>(g.tracks.size());
       g.tracks.push_back(f.tracks[j]);
     }
@@ -282,7 +282,9 @@ MotReport clear_mot(const std::vector<TrackingFrame>& frames, const MotParams& p
   for (const TrackingFrame& f : frames) {
     for (const TruthObservation& t : f.truths) classes.insert(t.class_name);
   }
-  for (const std::string& c : classes) r.by_class[c] = score(of_class(frames, c), params.iou_threshold);
+  for (const std::string& c : classes) r.by_class[c] = score(of_classes(frames, {c}), params.iou_threshold);
+  const std::set<std::string> vehicles(params.vehicle_classes.begin(), params.vehicle_classes.end());
+  r.vehicles = score(of_classes(frames, vehicles), params.iou_threshold);
   return r;
 }
 

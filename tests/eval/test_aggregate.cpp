@@ -84,12 +84,15 @@ TEST(Pool, CountsAreSummedAndSamplesPooledNotTheirMedians) {
   EXPECT_DOUBLE_EQ(acc->max, 0.99);
   EXPECT_DOUBLE_EQ(acc->median, 0.945);
   EXPECT_NEAR(acc->p10, 0.9 + 0.1 * 0.09, 1e-12);
-  // Targets: accuracy met on neither (0.9, 0.99 < 0.995); the blind band held only on b.
+  // Targets: accuracy met on neither (0.9, 0.99 < 0.995); the blind band held only on b; the
+  // vehicles' targets on neither (no vehicle is evaluated).
   for (const TargetShare& t : p.targets) {
     SCOPED_TRACE(t.key);
     if (t.key == "blind_zone_recall_tracked") {
       EXPECT_EQ(t.checked, 1);
       EXPECT_EQ(t.met, 1);
+    } else if (t.key == "tracking_mota_vehicles" || t.key == "tracking_idf1_vehicles") {
+      EXPECT_EQ(t.checked, 0);
     } else {
       EXPECT_EQ(t.checked, 2);
     }
@@ -109,11 +112,13 @@ TEST(Pool, MethodMissingFromADatasetIsAnError) {
   EXPECT_THROW(pool({a}, "robust", Targets{}), std::invalid_argument);
 }
 
-TEST(AllTargetChecks, ListsTheBlindBandTargetToo) {
+TEST(AllTargetChecks, ListsTheBlindBandAndVehicleTargetsToo) {
   const std::vector<TargetCheck> all = all_target_checks(Targets{});
   EXPECT_EQ(all.front().key, "accuracy");
-  EXPECT_EQ(all.back().key, "blind_zone_recall_tracked");
-  EXPECT_EQ(all.size(), check_targets(MethodSummary{}).size() + 1);
+  ASSERT_EQ(all.size(), check_targets(MethodSummary{}).size() + 3);
+  EXPECT_EQ(all[all.size() - 3].key, "blind_zone_recall_tracked");
+  EXPECT_EQ(all[all.size() - 2].key, "tracking_mota_vehicles");
+  EXPECT_EQ(all.back().key, "tracking_idf1_vehicles");
 }
 
 class Manifest : public fmcw::test::TempDirTest {};

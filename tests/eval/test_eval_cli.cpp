@@ -78,10 +78,11 @@ TEST_F(EvalCli, EvaluateWritesEveryDocumentedKeyAndFigure) {
     }
     for (const char* k : {"centre_error_p90_mps_ge200", "centre_error_p95_mps_ge200", "centre_error_max_mps_ge200",
                           "centre_error_share_over_1mps_ge200", "centre_error_share_over_0p5mps_ge200", "by_class",
-                          "by_distance", "by_track_age", "covariance_coverage_95", "mean_nees", "calibration"}) {
+                          "by_distance", "by_track_age", "covariance_coverage_95", "mean_nees", "calibration",
+                          "calibration_by_class", "calibration_by_track_age"}) {
       EXPECT_TRUE(x.at("objects").contains(k)) << k;
     }
-    for (const char* k : {"mota", "motp_m", "id_switches", "fragmentations", "idf1", "by_class"}) {
+    for (const char* k : {"mota", "motp_m", "id_switches", "fragmentations", "idf1", "by_class", "vehicles"}) {
       EXPECT_TRUE(x.at("tracking").contains(k)) << k;
     }
     for (const char* k : {"clustering", "ego", "objects", "total"}) EXPECT_TRUE(x.at("timing_ms").contains(k)) << k;

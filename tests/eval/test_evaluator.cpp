@@ -49,7 +49,7 @@ TEST(Evaluator, ExactOnANoiseFreeRigidScene) {
       // paper and fast assume a rig that does not turn: they have no yaw rate to check; nor
       // do they track, so the tracking targets are theirs to miss.
       const bool has_yaw = r.methods[m] == "robust" || tracks;
-      const bool needs_tracks = c.key == "tracking_mota" || c.key == "tracking_idf1";
+      const bool needs_tracks = c.key.rfind("tracking_", 0) == 0;
       EXPECT_EQ(c.met, (c.key != "yaw_rate_rmse" || has_yaw) && (!needs_tracks || tracks)) << c.key;
     }
     // The box is matched every frame; a method without tracks gets a new id every frame.

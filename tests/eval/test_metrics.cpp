@@ -177,6 +177,17 @@ TEST(Targets, MetMissedAndUnmeasurable) {
   EXPECT_FALSE(c[4].met);
   EXPECT_EQ(c[13].key, "blind_zone_recall_tracked");
   EXPECT_TRUE(c[13].met);  // 0.95 >= 0.9
+
+  // Where vehicles are evaluated, their MOTA and IDF1 are held too (0.9 each).
+  s.tracking.vehicles.objects = 40;
+  s.tracking.vehicles.mota = 0.875;
+  s.tracking.vehicles.idf1 = 0.95;
+  c = check_targets(s);
+  ASSERT_EQ(c.size(), 16u);
+  EXPECT_EQ(c[14].key, "tracking_mota_vehicles");
+  EXPECT_FALSE(c[14].met);  // 0.875 < 0.9
+  EXPECT_EQ(c[15].key, "tracking_idf1_vehicles");
+  EXPECT_TRUE(c[15].met);
 }
 
 }  // namespace

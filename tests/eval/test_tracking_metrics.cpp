@@ -134,6 +134,39 @@ TEST(ClearMot, ByClassKeepsEachClassApart) {
   EXPECT_DOUBLE_EQ(r.by_class.at("car").mota, 1.0);
   EXPECT_DOUBLE_EQ(r.by_class.at("pedestrian").mota, 0.0);
   EXPECT_DOUBLE_EQ(r.all.mota, 0.5);
+  EXPECT_DOUBLE_EQ(r.vehicles.mota, 1.0);  // the car alone
+  EXPECT_EQ(r.vehicles.objects, 4);
+}
+
+// A van and a truck tracked without fault, and a car whose track is replaced halfway: the
+// vehicles are scored together (one switch over 12 object-frames), and a walker is not one.
+TEST(ClearMot, VehiclesAreScoredTogether) {
+  std::vector<TrackingFrame> frames;
+  for (int k = 0; k < 4; ++k) {
+    TrackingFrame f = frame({1}, {k < 2 ? 7 : 8}, {{1, k < 2 ? 7 : 8, 0.9}}, "car");
+    const TrackingFrame v = frame({2}, {9}, {{2, 9, 0.9}}, "van");
+    const TrackingFrame t = frame({3}, {10}, {{3, 10, 0.9}}, "truck");
+    const TrackingFrame w = frame({4}, {}, {}, "pedestrian");  // never tracked
+    for (const TrackingFrame* g : {&v, &t, &w}) {
+      const int base_truth = static_cast<int>(f.truths.size()), base_track = static_cast<int>(f.tracks.size());
+      f.truths.insert(f.truths.end(), g->truths.begin(), g->truths.end());
+      f.tracks.insert(f.tracks.end(), g->tracks.begin(), g->tracks.end());
+      for (PointOverlap o : g->overlaps) {
+        o.truth += base_truth;
+        o.track += base_track;
+        f.overlaps.push_back(o);
+      }
+    }
+    frames.push_back(f);
+  }
+  const MotReport r = clear_mot(frames);
+  EXPECT_EQ(r.vehicles.objects, 12);
+  EXPECT_EQ(r.vehicles.id_switches, 1);
+  EXPECT_NEAR(r.vehicles.mota, 1.0 - 1.0 / 12.0, 1e-12);
+  EXPECT_NEAR(r.all.mota, 1.0 - 5.0 / 16.0, 1e-12);  // the walker's four misses count here
+  MotParams only_cars;
+  only_cars.vehicle_classes = {"car"};
+  EXPECT_EQ(clear_mot(frames, only_cars).vehicles.objects, 4);
 }
 
 TEST(Nees, EstimatesDrawnFromTheirOwnCovarianceCoverNinetyFivePercent) {

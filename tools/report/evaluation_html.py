@@ -19,6 +19,8 @@ TARGET_TEXT = {
     "covariance_coverage_95_max": "share of errors inside their own 95 % covariance ellipse (upper bound)",
     "tracking_mota": "MOTA, all classes",
     "tracking_idf1": "IDF1, all classes",
+    "tracking_mota_vehicles": "MOTA, vehicles (car, van, truck, bus)",
+    "tracking_idf1_vehicles": "IDF1, vehicles (car, van, truck, bus)",
 }
 
 
@@ -162,8 +164,8 @@ def _diagnose(data, m):
                      + ("Too small a share: the reported covariance is too small for the errors made."
                         if c["key"].endswith("_min") else
                         "Too large a share: the reported covariance is wider than the errors."))
-        elif c["key"] in ("tracking_mota", "tracking_idf1"):
-            tr = ms["tracking"]
+        elif c["key"] in ("tracking_mota", "tracking_idf1", "tracking_mota_vehicles", "tracking_idf1_vehicles"):
+            tr = ms["tracking"]["vehicles"] if c["key"].endswith("_vehicles") else ms["tracking"]
             text += (f" {tr['misses']} misses, {tr['false_positives']} false positives and {tr['id_switches']} "
                      f"identity switches over {tr['objects']} object-frames."
                      + (" This method does not track: every cluster is a new track in every frame."

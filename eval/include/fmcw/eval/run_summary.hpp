@@ -101,6 +101,8 @@ struct Targets {
   double max_coverage_95 = 0.98;
   double min_mota = 0.85;  ///< tracking.mota over all classes
   double min_idf1 = 0.85;  ///< tracking.idf1 over all classes
+  double min_mota_vehicles = 0.9;  ///< tracking.vehicles.mota (held where vehicles are evaluated)
+  double min_idf1_vehicles = 0.9;  ///< tracking.vehicles.idf1 (held where vehicles are evaluated)
 };
 
 struct TargetCheck {
@@ -108,7 +110,9 @@ struct TargetCheck {
   /// (against the mean surface velocity of the cluster's points), "object_centre_median_ge200"
   /// (against the velocity of the actor's centre), "blind_zone_recall_tracked",
   /// "object_centre_p95_ge200", "object_centre_share_over_1mps_ge200", "covariance_coverage_95_min",
-  /// "covariance_coverage_95_max", "tracking_mota", "tracking_idf1".
+  /// "covariance_coverage_95_max", "tracking_mota", "tracking_idf1", "blind_zone_recall_tracked"
+  /// (where the band holds pixels), "tracking_mota_vehicles", "tracking_idf1_vehicles" (where
+  /// vehicles are evaluated).
   std::string key;
   std::string relation;  ///< ">=" or "<="
   double value = 0.0;

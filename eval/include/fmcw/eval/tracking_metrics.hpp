@@ -58,6 +58,8 @@ struct MotParams {
   /// A track and an object may match in a frame when the IoU of their point sets is at least
   /// this (the literature uses 0.5; DopplerTrack uses 0.4).
   double iou_threshold = 0.5;
+  /// The classes scored together as MotReport::vehicles.
+  std::vector<std::string> vehicle_classes = {"car", "van", "truck", "bus"};
   void validate() const;
 };
 
@@ -83,6 +85,9 @@ struct MotReport {
   /// Per class: the class's objects, and the hypotheses whose class (TrackObservation::
   /// class_name) is that class. Hypotheses on no actor count in `all` only.
   std::map<std::string, MotMetrics> by_class;
+  /// The objects of the vehicle classes (MotParams::vehicle_classes) and the hypotheses of those
+  /// classes, scored together: a track that swaps a car for a van is one identity switch here.
+  MotMetrics vehicles;
 };
 
 /// Fills mota, motp_m, motp_iou, idf1, idp and idr from the counts. On entry motp_m and motp_iou
