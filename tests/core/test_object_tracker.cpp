@@ -1012,5 +1012,31 @@ TEST(ObjectTracker, APieceBesideACarComingIntoViewIsPartOfTheCar) {
   EXPECT_LT(without.joined, without.frames);  // control: its own object in the first frame
 }
 
+TEST(ObjectTracker, ATrackBornOnAFitThatSeesNothingAcrossKeepsAPlausibleVelocity) {
+  // The far object of far_object (4-6 pixels at 120 m) whose one-scan fit, as a fit on three
+  // nearly parallel beams can, puts 10^9 m/s along the direction it does not observe (its
+  // variance 10^13 says so). The track it starts takes that direction as unknown, not as 10^9 m/s.
+  MotionPipeline robust(MotionPipelineParams::preset("robust"));
+  ObjectTracker tracker{TrackerParams{}};
+  const Eigen::Vector3d truth(0.0, 10.0, 0.0);
+  for (int k = 0; k < 4; ++k) {
+    const Frame f = render_at(k, far_object(120.0));
+    MotionEstimate e = robust.process(f.scan, static_cast<std::uint64_t>(k));
+    const ClusterEstimate* c = actor_cluster(f, e, 1);
+    ASSERT_NE(c, nullptr) << "frame " << k;
+    ClusterEstimate& ce = e.clusters[static_cast<std::size_t>(c->id - 1)];
+    // Across the line of sight (the object is 120 m ahead on x): y.
+    ce.velocity.velocity_mps = Eigen::Vector3d(ce.velocity.velocity_mps.x(), 3.0e9, 0.0);
+    ce.velocity.covariance = Eigen::Vector3d(1e-4, 1e13, 1e13).asDiagonal();
+    ce.velocity.valid = true;
+    tracker.update(f.scan, e);
+    const ClusterEstimate* r = actor_cluster(f, e, 1);
+    ASSERT_NE(r, nullptr) << "frame " << k;
+    EXPECT_GT(r->track_id, 0) << "frame " << k;
+    EXPECT_TRUE(r->velocity.valid) << "frame " << k;
+    EXPECT_LT((r->velocity.velocity_mps - truth).norm(), 12.0) << "frame " << k;  // the tangential 10 m/s unknown
+  }
+}
+
 }  // namespace
 }  // namespace fmcw::core

@@ -4,6 +4,7 @@
 
 #include "../label_renumbering.hpp"
 #include "../pixel_lists.hpp"
+#include "fmcw/core/velocity_lsq.hpp"
 
 namespace fmcw::core::tracking {
 
@@ -70,7 +71,9 @@ void report_track(const Frame& frame, const Track& tr, const Group& g, const Mot
   v.covariance = Eigen::Matrix3d::Zero();
   v.covariance.topLeftCorner<2, 2>() = Rt * cov * frame.R;
   v.num_points = ce.num_pixels;
-  v.valid = true;
+  // A track whose state has run off (it should not: births cap what one scan cannot see) is no
+  // estimate to act on.
+  v.valid = v.velocity_mps.allFinite() && v.velocity_mps.norm() <= kMaxPlausibleSpeedMps;
 }
 
 }  // namespace

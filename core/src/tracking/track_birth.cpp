@@ -7,6 +7,7 @@
 #include "ctrv.hpp"
 #include "fragments.hpp"
 #include "measurement.hpp"
+#include "fmcw/core/velocity_lsq.hpp"
 
 namespace fmcw::core::tracking {
 
@@ -34,14 +35,24 @@ Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, co
                   const TrackerParams& p) {
   Track tr;
   tr.id = id;
-  const Eigen::Vector2d v = frame.R * ce.velocity.velocity_mps.head<2>();
-  tr.x.segment<2>(2) = v;
-  tr.heading_rad = v.norm() > 1.0 ? std::atan2(v.y(), v.x()) : 0.0;
-  // The single-scan covariance, its unobservable direction capped, as the velocity prior.
+  // The single-scan covariance, its unobservable direction capped, as the velocity prior. Along a
+  // direction the fit does not observe at all (a standard deviation above kMaxPlausibleSpeedMps:
+  // a fit on a few pixels 130 m away can put 10^9 m/s there) the velocity is taken as 0, as
+  // unknown as the cap says.
   Eigen::Matrix2d cov = frame.R * ce.velocity.covariance.topLeftCorner<2, 2>() * frame.R.transpose();
   const double cap = p.motion.max_initial_velocity_sigma_mps * p.motion.max_initial_velocity_sigma_mps;
-  if (!cov.allFinite()) cov = Eigen::Matrix2d::Identity() * cap;
+  const bool has_covariance = cov.allFinite();
+  if (!has_covariance) cov = Eigen::Matrix2d::Identity() * cap;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(0.5 * (cov + cov.transpose()));
+  Eigen::Vector2d v = frame.R * ce.velocity.velocity_mps.head<2>();
+  if (!has_covariance || !v.allFinite()) v.setZero();
+  for (int k = 0; k < 2; ++k) {
+    if (eig.eigenvalues()(k) > kMaxPlausibleSpeedMps * kMaxPlausibleSpeedMps) {
+      v -= eig.eigenvectors().col(k).dot(v) * eig.eigenvectors().col(k);
+    }
+  }
+  tr.x.segment<2>(2) = v;
+  tr.heading_rad = v.norm() > 1.0 ? std::atan2(v.y(), v.x()) : 0.0;
   const double floor = p.measurement.doppler_sigma_mps * p.measurement.doppler_sigma_mps;
   const Eigen::Vector2d ev = eig.eigenvalues().cwiseMax(floor).cwiseMin(cap);
   measure(tr, g, true, frame, edges, p);  // places the box
