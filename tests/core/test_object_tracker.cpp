@@ -901,7 +901,6 @@ TEST(ObjectTracker, AStraightCarWhoseAxisShowsIsReportedWithoutTheTurnItCannotHa
   EXPECT_GT(without[0].sigma_mps, 4.0);
 }
 
-
 // A small object (1 m long, 0.9 m tall) crossing far away at 10 m/s, range_m ahead: 4-6 pixels
 // at 120 m, as a car's rear shows 120 m away on a sparser sensor.
 std::function<SyntheticBox(double)> far_object(double range_m) {
@@ -981,7 +980,6 @@ PieceFrames piece_of_a_car_entering_the_view(double walker_max_speed_mps) {
     }
     ClusterEstimate piece = *body;
     piece.id = static_cast<std::int32_t>(e.clusters.size()) + 1;
-    piece.num_pixels = 0;
     std::vector<std::size_t> piece_pixels;
     for (std::size_t i = 0; i < e.labels.size(); ++i) {
       if (e.labels[i] != body_label || static_cast<int>(i) / f.scan.cols < lowest - 1) continue;

@@ -96,7 +96,7 @@ void birth_tracks(const Frame& frame, const ViewEdges& edges, const MotionEstima
   for (std::size_t t = 0; t < measured; ++t) measured_boxes[t] = box_of(tracks[t]);
   Footprints footprints(frame.scan.size());
   // Walkers side by side are as near in the image as a body and its wheel: only the pixels of
-  // objects larger than a walker hold fragments.
+  // objects larger or faster than a walker hold fragments (holds_pieces).
   for (std::size_t t = 0; t < groups.size(); ++t) {
     if (holds_pieces(tracks[t], p)) footprints.add(t, groups[t]);
   }

@@ -108,8 +108,8 @@ struct Targets {
 struct TargetCheck {
   /// "accuracy", "ego_rmse_x", "ego_rmse_y", "ego_rmse_z", "yaw_rate_rmse", "object_median_ge200"
   /// (against the mean surface velocity of the cluster's points), "object_centre_median_ge200"
-  /// (against the velocity of the actor's centre), "blind_zone_recall_tracked",
-  /// "object_centre_p95_ge200", "object_centre_share_over_1mps_ge200", "covariance_coverage_95_min",
+  /// (against the velocity of the actor's centre), "object_centre_p95_ge200",
+  /// "object_centre_share_over_1mps_ge200", "covariance_coverage_95_min",
   /// "covariance_coverage_95_max", "tracking_mota", "tracking_idf1", "blind_zone_recall_tracked"
   /// (where the band holds pixels), "tracking_mota_vehicles", "tracking_idf1_vehicles" (where
   /// vehicles are evaluated).
