@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-bash scripts/build.sh
+FMCW_TARGET=fmcw bash scripts/build.sh  # the CLI alone, with link-time optimisation
 out=${1:-out/main}
 scenario=${2:-scenarios/intersection.yaml}
 mkdir -p "$out"
