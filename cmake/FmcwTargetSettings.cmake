@@ -1,6 +1,15 @@
 include(CheckIPOSupported)
 check_ipo_supported(RESULT FMCW_IPO_SUPPORTED OUTPUT FMCW_IPO_MESSAGE LANGUAGES CXX)
 
+# Precompiled headers (FMCW_PCH), not in the fuzz build: Eigen's headers alone take several
+# seconds of every file's compile, and nearly every file includes them through the project's
+# headers. The test programs add GoogleTest.
+function(fmcw_precompile_headers target)
+  if(FMCW_PCH AND NOT FMCW_FUZZ)
+    target_precompile_headers(${target} PRIVATE ${ARGN})
+  endif()
+endfunction()
+
 # One place for compiler settings on the project's own targets.
 function(fmcw_target_settings target)
   target_compile_features(${target} PUBLIC cxx_std_17)
@@ -24,13 +33,10 @@ function(fmcw_target_settings target)
       target_compile_options(${target} PRIVATE -Wno-maybe-uninitialized)
     endif()
   endif()
-  # Precompiled headers: Eigen's headers alone take several seconds of every file's compile, and
-  # nearly every file includes them through the project's headers. Not in the Python module
-  # (Python.h must come before any standard header) nor in the fuzz build.
   get_target_property(type ${target} TYPE)
-  if(FMCW_PCH AND NOT FMCW_FUZZ AND NOT type STREQUAL "MODULE_LIBRARY")
-    target_precompile_headers(${target} PRIVATE <algorithm> <cmath> <cstdint> <memory> <string> <vector>
-                                                <Eigen/Core> <Eigen/Geometry>)
+  if(NOT type STREQUAL "MODULE_LIBRARY")  # Python.h must come before any standard header
+    fmcw_precompile_headers(${target} <algorithm> <cmath> <cstdint> <memory> <string> <vector> <Eigen/Core>
+                            <Eigen/Geometry>)
   endif()
   # Coverage feedback for libFuzzer in every library a fuzz target reaches.
   if(FMCW_FUZZ)
