@@ -64,6 +64,11 @@ void TrackerParams::validate() const {
   mo.positive("initial_yaw_rate_sigma_rps", motion.initial_yaw_rate_sigma_rps);
   mo.positive("max_initial_velocity_sigma_mps", motion.max_initial_velocity_sigma_mps);
   mo.positive("max_yaw_rate_rps", motion.max_yaw_rate_rps);
+  mo.positive("min_noise_scale", motion.min_noise_scale);
+  FMCW_CHECK_ARG(motion.min_noise_scale <= 1.0, "tracking.motion.min_noise_scale must be <= 1, got ", motion.min_noise_scale);
+  mo.non_negative("noise_gain_up", motion.noise_gain_up);
+  mo.non_negative("noise_gain_down", motion.noise_gain_down);
+  FMCW_CHECK_ARG(motion.noise_gain_down < 1.0, "tracking.motion.noise_gain_down must be < 1, got ", motion.noise_gain_down);
   const FieldCheck tu{"turning"};
   tu.non_negative("min_turn_rate_rps", turning.min_turn_rate_rps);
   tu.non_negative("turn_release_significance", turning.turn_release_significance);
@@ -98,6 +103,8 @@ void TrackerParams::validate() const {
   f.non_negative("range_gap_fraction", fragments.range_gap_fraction);
   f.at_least("host_ratio", fragments.host_ratio, 1.0);
   f.non_negative("small_host_ratio (0: never)", fragments.small_host_ratio);
+  f.non_negative("same_motion_margin_m (0: only the box)", fragments.same_motion_margin_m);
+  f.non_negative("same_motion_mps", fragments.same_motion_mps);
   const FieldCheck l{"lifecycle"};
   l.at_least("confirm_hits", lifecycle.confirm_hits, 1);
   l.non_negative("max_misses", lifecycle.max_misses);

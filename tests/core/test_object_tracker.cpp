@@ -707,6 +707,13 @@ TEST(ObjectTracker, RejectsBadParametersNamingTheField) {
       {[](TrackerParams& p) { p.heading.sigma_rad = -0.1; }, "tracking.heading.sigma_rad must be > 0, got -0.1"},
       {[](TrackerParams& p) { p.heading.cut_sigma_factor = 0.5; }, "tracking.heading.cut_sigma_factor must be >= 1, got 0.5"},
       {[](TrackerParams& p) { p.heading.slip_sigma_mps = 0.0; }, "tracking.heading.slip_sigma_mps must be > 0, got 0"},
+      {[](TrackerParams& p) { p.motion.min_noise_scale = 0.0; }, "tracking.motion.min_noise_scale must be > 0, got 0"},
+      {[](TrackerParams& p) { p.motion.min_noise_scale = 1.5; }, "tracking.motion.min_noise_scale must be <= 1, got 1.5"},
+      {[](TrackerParams& p) { p.motion.noise_gain_up = -1.0; }, "tracking.motion.noise_gain_up must be >= 0, got -1"},
+      {[](TrackerParams& p) { p.motion.noise_gain_down = 1.0; }, "tracking.motion.noise_gain_down must be < 1, got 1"},
+      {[](TrackerParams& p) { p.fragments.same_motion_margin_m = -1.0; },
+       "tracking.fragments.same_motion_margin_m (0: only the box) must be >= 0, got -1"},
+      {[](TrackerParams& p) { p.fragments.same_motion_mps = -0.5; }, "tracking.fragments.same_motion_mps must be >= 0, got -0.5"},
   };
   for (const auto& [set, expected] : cases) {
     TrackerParams p;
@@ -853,6 +860,67 @@ std::vector<Reported> reported(MotionPipeline pipeline, int frames, const std::f
                    c->yaw_rate_rps});
   }
   return out;
+}
+
+// The tracked pipeline with the motion noise matched to the innovations (down to 0.03 of it) or
+// fixed (the default).
+MotionPipeline noise_pipeline(bool adaptive) {
+  MotionPipelineParams params = MotionPipelineParams::preset("tracked");
+  if (adaptive) params.tracking.motion.min_noise_scale = 0.03;
+  return MotionPipeline(params);
+}
+
+// A car 4.4 m long driving at 6 m/s along x at y = -15 from x = 15; from t = 2.5 s (x = 30) on,
+// with `turn` on, around the circle of circling_car (radius 15 m about (30, 0), 0.4 rad/s).
+SyntheticBox straight_then_turning(double t, bool turn) {
+  constexpr double kTurnAt = 2.5;
+  if (turn && t > kTurnAt) return circling_car(t - kTurnAt);
+  SyntheticBox b;
+  b.center_m = Eigen::Vector3d(15.0 + 6.0 * t, -15.0, 0.8);
+  b.half_extent_m = Eigen::Vector3d(2.2, 0.9, 0.8);
+  b.velocity_mps = Eigen::Vector3d(6.0, 0.0, 0.0);
+  return b;
+}
+
+TEST(ObjectTracker, AVehicleDrivingStraightIsTrackedWithLessNoiseAndItsCovarianceStillCoversItsError) {
+  // Driving straight, the track's updates correct it less than the manoeuvring noise expects:
+  // its noise comes down, the covariance it reports narrows and the error stays inside it.
+  const auto car = [](double t) { return straight_then_turning(t, false); };
+  const std::vector<Reported> adaptive = reported(noise_pipeline(true), 40, car);
+  const std::vector<Reported> fixed = reported(noise_pipeline(false), 40, car);
+  ASSERT_EQ(adaptive.size(), 40u);
+  ASSERT_EQ(fixed.size(), 40u);
+  double sigma_adaptive = 0.0, sigma_fixed = 0.0, error_adaptive = 0.0, error_fixed = 0.0;
+  for (int k = 25; k < 40; ++k) {
+    sigma_adaptive = std::max(sigma_adaptive, adaptive[k].sigma_mps);
+    sigma_fixed = std::max(sigma_fixed, fixed[k].sigma_mps);
+    error_adaptive = std::max(error_adaptive, adaptive[k].error_mps);
+    error_fixed = std::max(error_fixed, fixed[k].error_mps);
+    // Within three of its largest standard deviations (a bound that does not need the ellipse).
+    EXPECT_LT(adaptive[k].error_mps, 3.0 * adaptive[k].sigma_mps) << "frame " << k;
+  }
+  EXPECT_LT(sigma_adaptive, 0.85 * sigma_fixed) << sigma_adaptive << " against " << sigma_fixed;
+  EXPECT_LT(error_adaptive, error_fixed + 0.02) << error_adaptive << " against " << error_fixed;
+}
+
+TEST(ObjectTracker, AVehicleThatTurnsAfterDrivingStraightIsFollowedAsWithTheFixedNoise) {
+  // The same car turns at 0.4 rad/s after 2.5 s straight: its noise, low by then, comes back
+  // as the turn begins; from ten frames into the turn its velocity and yaw rate are as good as
+  // with the fixed noise.
+  const auto car = [](double t) { return straight_then_turning(t, true); };
+  const std::vector<Reported> adaptive = reported(noise_pipeline(true), 45, car);
+  const std::vector<Reported> fixed = reported(noise_pipeline(false), 45, car);
+  ASSERT_EQ(adaptive.size(), 45u);
+  ASSERT_EQ(fixed.size(), 45u);
+  double error_adaptive = 0.0, error_fixed = 0.0, yaw_adaptive = 0.0;
+  for (int k = 35; k < 45; ++k) {
+    error_adaptive = std::max(error_adaptive, adaptive[k].error_mps);
+    error_fixed = std::max(error_fixed, fixed[k].error_mps);
+    yaw_adaptive = std::max(yaw_adaptive, std::abs(adaptive[k].yaw_rate_rps - kCircleOmega));
+  }
+  EXPECT_LT(error_adaptive, 0.5);
+  EXPECT_LT(yaw_adaptive, 0.05);
+  EXPECT_LT(error_adaptive, 1.5 * error_fixed + 0.05) << error_adaptive << " against " << error_fixed;
 }
 
 TEST(ObjectTracker, TheOutlinesAxisResolvesATurningCarByItsSecondUpdate) {

@@ -5,9 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
+#include <random>
 
 #include "fmcw/core/motion_pipeline.hpp"
 #include "fmcw/core/synthetic_scan.hpp"
@@ -76,6 +80,95 @@ TEST(TrackingCtrv, PredictionTurnsTheBoxAndGrowsTheCovariance) {
   EXPECT_GT(t.P(4, 4), 0.01);
   // The position's variance along y picks up the yaw rate's: y moves by v dt^2 / 2 per rad/s.
   EXPECT_GT(t.P(1, 4), 0.0);
+}
+
+// A car-sized track at (20, 5) driving along x at `speed_mps`, turning at `yaw_rate_rps`.
+Track car_track(double speed_mps, double yaw_rate_rps = 0.0) {
+  Track t;
+  t.x << 20.0, 5.0, speed_mps, 0.0, yaw_rate_rps;
+  t.length_m = 4.5;
+  t.width_m = 1.8;
+  return t;
+}
+
+TEST(TrackingCtrv, TheNoiseScaleFollowsTheCorrectionsWithinItsBounds) {
+  TrackerParams p;  // gains 0.5 up and 0.1 down
+  p.motion.min_noise_scale = 0.03;
+  Track t = car_track(10.0);
+  // Corrections of none of what a consistent filter expects: s (1 + 0.1 (0 - 1)) = 0.9 s.
+  adapt_noise(t, 0.0, 2.0, p);
+  EXPECT_DOUBLE_EQ(t.noise_scale, 0.9);
+  adapt_noise(t, 1.0, 2.0, p);  // half: s (1 - 0.05)
+  EXPECT_DOUBLE_EQ(t.noise_scale, 0.9 * 0.95);
+  for (int k = 0; k < 100; ++k) adapt_noise(t, 0.0, 2.0, p);
+  EXPECT_DOUBLE_EQ(t.noise_scale, p.motion.min_noise_scale);
+  // Three times what it expects (a manoeuvre begins): s (1 + 0.5 (3 - 1)) = 2 s, up to 1.
+  adapt_noise(t, 6.0, 2.0, p);
+  EXPECT_DOUBLE_EQ(t.noise_scale, 2.0 * p.motion.min_noise_scale);
+  for (int k = 0; k < 10; ++k) adapt_noise(t, 6.0, 2.0, p);
+  EXPECT_DOUBLE_EQ(t.noise_scale, 1.0);
+  // A correction that says nothing (no expectation, not finite) leaves the scale as it is.
+  t.noise_scale = 0.5;
+  adapt_noise(t, 1.0, 0.0, p);
+  adapt_noise(t, std::numeric_limits<double>::quiet_NaN(), 2.0, p);
+  EXPECT_DOUBLE_EQ(t.noise_scale, 0.5);
+  // Walkers, objects at a walker's pace and turning tracks go back to the full noise.
+  for (Track other : {car_track(2.0), car_track(10.0, 0.1)}) {
+    other.noise_scale = 0.5;
+    adapt_noise(other, 0.0, 2.0, p);
+    EXPECT_EQ(other.noise_scale, 1.0);
+  }
+  Track walker = car_track(10.0);
+  walker.length_m = walker.width_m = 0.6;
+  walker.noise_scale = 0.5;
+  adapt_noise(walker, 0.0, 2.0, p);
+  EXPECT_EQ(walker.noise_scale, 1.0);
+  // min_noise_scale = 1 (the default): the fixed noises.
+  const TrackerParams fixed;
+  Track f = car_track(10.0);
+  adapt_noise(f, 0.0, 2.0, fixed);
+  EXPECT_EQ(f.noise_scale, 1.0);
+}
+
+TEST(TrackingCtrv, TheCorrectionOfAConsistentFilterIsWhatItExpects) {
+  // Monte Carlo cross-check of E[dx^T P^-1 dx] = 5 - tr(P^-1 P_updated): states drawn from the
+  // prior N(x, P), a linear measurement of position and velocity (and a Doppler-like row on the
+  // yaw rate) drawn with its noise; the information update's corrections, averaged, give the
+  // expectation, and with the truth drawn from P / 4 (a filter too cautious) a quarter of it.
+  Track prior = car_track(10.0);
+  Eigen::Matrix<double, 5, 5> A = Eigen::Matrix<double, 5, 5>::Identity();
+  A(2, 4) = 0.3;
+  A(0, 2) = 0.1;
+  prior.P = A * Eigen::Matrix<double, 5, 1>(0.5, 0.4, 1.0, 0.8, 0.1).asDiagonal() * A.transpose();
+  Eigen::Matrix<double, 4, 5> H = Eigen::Matrix<double, 4, 5>::Zero();
+  H(0, 0) = H(1, 1) = H(2, 2) = 1.0;
+  H(3, 3) = 1.0;
+  H(3, 4) = 5.0;
+  const Eigen::Vector4d r_sigma(0.7, 0.7, 0.1, 0.1);
+  const Eigen::Matrix4d R_inv = r_sigma.cwiseInverse().cwiseAbs2().asDiagonal();
+  const Mat5 info = H.transpose() * R_inv * H;
+  const Mat5 P_inv = prior.P.inverse();
+  const double expected = 5.0 - (P_inv * (P_inv + info).inverse()).trace();
+  const Eigen::LLT<Mat5> chol(prior.P);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> n01;
+  for (const double truth_scale : {1.0, 0.25}) {
+    double sum = 0.0;
+    const int draws = 20000;
+    for (int k = 0; k < draws; ++k) {
+      Vec5 z5;
+      for (int j = 0; j < 5; ++j) z5(j) = n01(rng);
+      const Mat5 L = chol.matrixL();
+      const Vec5 truth = prior.x + std::sqrt(truth_scale) * (L * z5);
+      Eigen::Vector4d y = H * truth;
+      for (int j = 0; j < 4; ++j) y(j) += std::sqrt(truth_scale) * r_sigma(j) * n01(rng);
+      Track t = prior;
+      information_update(t, info, H.transpose() * R_inv * (y - H * prior.x), TrackerParams{});  // fixed noise
+      const Vec5 dx = t.x - prior.x;
+      sum += dx.dot(P_inv * dx);
+    }
+    EXPECT_NEAR(sum / draws / expected, truth_scale, 0.03) << "truth drawn from " << truth_scale << " P";
+  }
 }
 
 // ---- The box: anchoring and view cuts -----------------------------------------------------
@@ -279,7 +372,7 @@ TEST(TrackingOutlineAxis, TheAxisFixesTheYawRateTheDopplerLeavesOpen) {
   Vec5 grad = Vec5::Zero();
   ASSERT_TRUE(axis_information(tr, c.pixels, frame, TrackerParams{}, info, grad));
   EXPECT_TRUE(tr.axis_seen);
-  information_update(tr, info, grad, TrackerParams{}.motion);
+  information_update(tr, info, grad, TrackerParams{});
   EXPECT_NEAR(tr.yaw_rate(), omega, 0.06);
   EXPECT_LT((tr.velocity() - v).norm(), 1.0);
   EXPECT_LT(std::sqrt(tr.P(4, 4)), 0.1);  // and it knows it
@@ -340,20 +433,27 @@ TEST(TrackingAssociation, GatesByBoxAndDoppler) {
 
 // Two confirmed tracks as old: the host, 10 m long at (20, 0) by default (a truck whose cab and
 // load were born apart in one frame), and the part's, 0.4 times as long, its centre at 0.3
-// times the host's length ahead and 0.05 times aside, inside the host's box. Returns whether the
-// part's track was merged into the host's.
-bool part_merged(int part_last_pixels, double host_length_m = 10.0, int host_last_pixels = 3000) {
+// times the host's length ahead and 0.05 times aside, inside the host's box; or, with `beside`,
+// its centre that far beyond the side of the host's box. Both move along x at 5 m/s unless
+// `speeds` says otherwise; the merge runs with the parameters p. Returns whether the part's track was merged into the host's.
+struct Speeds {
+  double host_mps = 5.0;
+  double part_mps = 5.0;
+};
+bool part_merged(int part_last_pixels, double host_length_m = 10.0, int host_last_pixels = 3000, double beside_m = 0.0,
+                 Speeds speeds = {}, const TrackerParams& p = {}) {
   std::vector<Track> tracks(2);
   for (Track& t : tracks) {
     t.hits = 4;
     t.confirmed = true;
     t.width_m = 2.5;
   }
-  tracks[0].x << 20.0, 0.0, 5.0, 0.0, 0.0;
+  tracks[0].x << 20.0, 0.0, speeds.host_mps, 0.0, 0.0;
   tracks[0].length_m = host_length_m;
   tracks[0].last_pixels = host_last_pixels;
   tracks[0].width_m = std::min(2.5, 0.6 * host_length_m);
-  tracks[1].x << 20.0 + 0.3 * host_length_m, 0.05 * host_length_m, 5.0, 0.0, 0.0;
+  const double aside = beside_m > 0.0 ? 0.5 * tracks[0].width_m + beside_m : 0.05 * host_length_m;
+  tracks[1].x << 20.0 + 0.3 * host_length_m, aside, speeds.part_mps, 0.0, 0.0;
   tracks[1].length_m = 0.4 * host_length_m;
   tracks[1].last_pixels = part_last_pixels;
   const std::vector<Box> boxes{box_of(tracks[0]), box_of(tracks[1])};
@@ -363,7 +463,6 @@ bool part_merged(int part_last_pixels, double host_length_m = 10.0, int host_las
   Association a;
   a.owner = {0, 1};
   a.absorbed = {-1, -1};
-  const TrackerParams p;
   merge_nested_tracks(tracks, boxes, p, a, groups);
   const bool merged = groups[1].clusters.empty() && a.absorbed[1] == 0 && tracks[1].misses > p.lifecycle.max_misses;
   EXPECT_EQ(merged, groups[0].absorbed == std::vector<std::int32_t>{2});
@@ -381,6 +480,19 @@ TEST(TrackingAssociation, ATrackOnAWalkersLimbEndsOnlyWhenTheWalkerShowsTenTimes
   // it, of 80, does not.
   EXPECT_TRUE(part_merged(15, 1.0, 240));
   EXPECT_FALSE(part_merged(80, 1.0, 240));
+}
+
+TEST(TrackingAssociation, AFaceOfAVehicleBesideItsBoxMovingWithItEnds) {
+  // A bus alongside shows its side (the host's box, as wide as the face seen) and its front
+  // corner (a track of its own 0.6 m beside that box: past claim_margin_m, 0.25 m, within
+  // same_motion_margin_m more, 0.5 m).
+  EXPECT_TRUE(part_merged(80, 10.0, 3000, 0.6));
+  EXPECT_FALSE(part_merged(80, 10.0, 3000, 0.6, {5.0, 6.0}));  // 1 m/s apart: another vehicle
+  EXPECT_FALSE(part_merged(80, 10.0, 3000, 1.2));              // a lane beside it
+  EXPECT_FALSE(part_merged(80, 10.0, 3000, 0.6, {2.0, 2.0}));  // a walker's pace: walkers side by side
+  TrackerParams only_the_box;  // control: the same face, with only the box grown by claim_margin_m
+  only_the_box.fragments.same_motion_margin_m = 0.0;
+  EXPECT_FALSE(part_merged(80, 10.0, 3000, 0.6, {}, only_the_box));
 }
 
 // ---- Background model and claims ----------------------------------------------------------

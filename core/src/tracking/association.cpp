@@ -141,15 +141,16 @@ double doppler_deviation(const Frame& frame, const std::vector<std::uint32_t>& p
 
 namespace {
 
-// The track whose box, grown by claim_margin_m, holds the point, the nearest by box distance
-// (-1: none); only confirmed vehicles when vehicles_only.
+// The track whose box, grown by claim_margin_m and extra_margin_m, holds the point, the nearest
+// by box distance (-1: none); only confirmed vehicles when vehicles_only.
 int holding_box(const Eigen::Vector2d& q, const std::vector<Track>& tracks, const std::vector<Box>& boxes,
-                const TrackerParams& p, bool vehicles_only, std::size_t skip = std::numeric_limits<std::size_t>::max()) {
+                const TrackerParams& p, bool vehicles_only, std::size_t skip = std::numeric_limits<std::size_t>::max(),
+                double extra_margin_m = 0.0) {
   int holder = -1;
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t t = 0; t < boxes.size(); ++t) {  // tracks without a box yet are not holders
     if (t == skip || (vehicles_only && !(tracks[t].confirmed && tracks[t].vehicle(p)))) continue;
-    if (!boxes[t].contains(q, p.claims.claim_margin_m)) continue;
+    if (!boxes[t].contains(q, p.claims.claim_margin_m + extra_margin_m)) continue;
     const double d = boxes[t].distance(q) + 1e-3 * (q - boxes[t].centre).norm();
     if (d < best) {
       best = d;
@@ -157,6 +158,13 @@ int holding_box(const Eigen::Vector2d& q, const std::vector<Track>& tracks, cons
     }
   }
   return holder;
+}
+
+// The host moves faster than a walker (at a walker's pace a long box may be walkers side by
+// side, each with a track of its own) and the other track within same_motion_mps of it.
+bool moves_with(const Track& host, const Track& other, const TrackerParams& p) {
+  return host.velocity().norm() > p.small.walker_max_speed_mps &&
+         (host.velocity() - other.velocity()).norm() <= p.fragments.same_motion_mps;
 }
 
 // Per cluster: the track it joins and the one it would be absorbed into.
@@ -247,6 +255,10 @@ void merge_nested_tracks(std::vector<Track>& tracks, const std::vector<Box>& box
   for (std::size_t t = 0; t < tracks.size(); ++t) {
     if (groups[t].clusters.empty()) continue;
     int u = holding_box(boxes[t].centre, tracks, boxes, p, true, t);
+    if (u < 0 && p.fragments.same_motion_margin_m > 0.0) {  // a face of the vehicle beside it, moving with it
+      const int v = holding_box(boxes[t].centre, tracks, boxes, p, true, t, p.fragments.same_motion_margin_m);
+      if (v >= 0 && moves_with(tracks[static_cast<std::size_t>(v)], tracks[t], p)) u = v;
+    }
     const bool small_host = u < 0 && p.fragments.small_host_ratio > 0.0;
     if (small_host) u = holding_box(boxes[t].centre, tracks, boxes, p, false, t);
     if (u < 0) continue;

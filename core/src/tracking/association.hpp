@@ -42,7 +42,8 @@ Association associate(const Frame& frame, const std::vector<std::vector<std::uin
                       const TrackerParams& p, std::vector<Group>& groups);
 
 /// A track whose predicted centre lies inside an older confirmed vehicle's predicted box (grown by
-/// claim_margin_m) follows a piece of that vehicle (it was born from a wheel or a part seen
+/// claim_margin_m; by fragments.same_motion_margin_m more where the two move alike within
+/// fragments.same_motion_mps) follows a piece of that vehicle (it was born from a wheel or a part seen
 /// apart): its clusters go under the vehicle's label, unmeasured, and the track ends this frame.
 /// So it does inside a vehicle as old whose last update found fragments.host_ratio times its
 /// pixels (two tracks born in one frame from the cab and the load of a truck). Two confirmed

@@ -38,25 +38,42 @@ void predict(Track& t, double dt, const TrackerParams::Motion& p) {
     b(k) -= h;
     F.col(k) = (propagate(a, dt) - propagate(b, dt)) / (2.0 * h);
   }
-  const double q = p.accel_sigma_mps2 * p.accel_sigma_mps2;
+  const double q = t.noise_scale * p.accel_sigma_mps2 * p.accel_sigma_mps2;
   Mat5 Q = Mat5::Zero();
   for (int k = 0; k < 2; ++k) {
     Q(k, k) = q * dt * dt * dt * dt / 4.0;
     Q(k, k + 2) = Q(k + 2, k) = q * dt * dt * dt / 2.0;
     Q(k + 2, k + 2) = q * dt * dt;
   }
-  Q(4, 4) = p.yaw_accel_sigma_rps2 * p.yaw_accel_sigma_rps2 * dt * dt;
+  Q(4, 4) = t.noise_scale * p.yaw_accel_sigma_rps2 * p.yaw_accel_sigma_rps2 * dt * dt;
   t.x = propagate(t.x, dt);
   t.P = F * t.P * F.transpose() + Q;
   t.heading_rad += t.x(4) * dt;
   t.extents_heading_rad += t.x(4) * dt;
 }
 
-void information_update(Track& t, const Mat5& info, const Vec5& grad, const TrackerParams::Motion& p) {
+void adapt_noise(Track& t, double correction, double expected, const TrackerParams& p) {
+  const TrackerParams::Motion& pm = p.motion;
+  if (pm.min_noise_scale >= 1.0 || !(expected > 1e-9) || !std::isfinite(correction)) return;
+  // Walkers (gait), objects at a walker's pace (walkers side by side make one box) and turning
+  // tracks keep the full noise: what they do next is what the full noise is for.
+  if (t.small(p) || t.velocity().norm() <= p.small.walker_max_speed_mps || std::abs(t.yaw_rate()) > p.turning.min_turn_rate_rps) {
+    t.noise_scale = 1.0;
+    return;
+  }
+  const double r = correction / expected;
+  const double gain = r > 1.0 ? pm.noise_gain_up : pm.noise_gain_down;
+  t.noise_scale = std::clamp(t.noise_scale * (1.0 + gain * (r - 1.0)), pm.min_noise_scale, 1.0);
+}
+
+void information_update(Track& t, const Mat5& info, const Vec5& grad, const TrackerParams& p) {
   const Mat5 P_inv = t.P.inverse();
   const Mat5 P_new = (P_inv + info).inverse();
-  t.x += P_new * grad;
-  t.x(4) = std::clamp(t.x(4), -p.max_yaw_rate_rps, p.max_yaw_rate_rps);
+  const Vec5 dx = P_new * grad;
+  t.x += dx;
+  t.x(4) = std::clamp(t.x(4), -p.motion.max_yaw_rate_rps, p.motion.max_yaw_rate_rps);
+  // For a consistent filter E[dx^T P^-1 dx] = tr(P^-1 (P - P_new)) = 5 - tr(P^-1 P_new).
+  adapt_noise(t, dx.dot(P_inv * dx), 5.0 - (P_inv * P_new).trace(), p);
   t.P = 0.5 * (P_new + P_new.transpose());
 }
 

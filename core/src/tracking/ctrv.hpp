@@ -13,9 +13,15 @@ Vec5 propagate(const Vec5& x, double dt);
 /// acceleration and yaw-acceleration noise) and box axes by dt > 0.
 void predict(Track& t, double dt, const TrackerParams::Motion& p);
 
+/// Noise matched to the innovations (TrackerParams::Motion::min_noise_scale): moves the track's
+/// noise scale by the update's correction dx^T P^-1 dx (`correction`) against what a consistent
+/// filter expects of it (`expected`); back to 1 for a small, slow or turning track.
+void adapt_noise(Track& t, double correction, double expected, const TrackerParams& p);
+
 /// Information-form update: with the measurements' information and gradient at the current
-/// state, x += (P^-1 + info)^-1 grad, P = (P^-1 + info)^-1; the yaw rate stays within bounds.
-void information_update(Track& t, const Mat5& info, const Vec5& grad, const TrackerParams::Motion& p);
+/// state, x += (P^-1 + info)^-1 grad, P = (P^-1 + info)^-1; the yaw rate stays within bounds;
+/// then the noise scale follows the correction (adapt_noise).
+void information_update(Track& t, const Mat5& info, const Vec5& grad, const TrackerParams& p);
 
 /// The Doppler row's Jacobian with respect to the state at x.
 inline Vec5 row_jacobian(const Row& r, const Vec5& x) {

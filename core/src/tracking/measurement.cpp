@@ -151,7 +151,7 @@ void measure(Track& tr, const Group& whole, bool born, const Frame& frame, const
   } else {
     tr.axis_seen = false;
   }
-  information_update(tr, info, grad, p.motion);
+  information_update(tr, info, grad, p);
 }
 
 void update_track_state(Track& tr, const Group& g, const TrackerParams& p) {

@@ -72,7 +72,7 @@ Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, co
   // Where the outline shows the body's axis, the prior's line of velocity and yaw rate meets it.
   Mat5 info = Mat5::Zero();
   Vec5 grad = Vec5::Zero();
-  if (axis_information(tr, g.found, frame, p, info, grad)) information_update(tr, info, grad, p.motion);
+  if (axis_information(tr, g.found, frame, p, info, grad)) information_update(tr, info, grad, p);
   tr.hits = 1;
   tr.last_pixels = static_cast<int>(g.found.size());
   if (tr.hits >= p.lifecycle.confirm_hits) tr.confirmed = true;
