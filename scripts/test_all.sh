@@ -31,12 +31,13 @@ phase "core-only suite"
 
 # ASan + UBSan: every test, the CLI they run included, stops at the first memory error, leak or
 # undefined behaviour (-fno-sanitize-recover), built at -O1 as the sanitizers' documentation
-# advises. The benchmark programs are not built: no test runs them. FMCW_SKIP_SANITIZE=1 skips
+# advises, with precompiled headers as the Release build. The benchmark programs are not built:
+# no test runs them. FMCW_SKIP_SANITIZE=1 skips
 # this part (a quicker run while developing).
 cd ..
 [ "${FMCW_SKIP_SANITIZE:-0}" = 1 ] && exit 0
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" -DFMCW_SANITIZE=ON \
-  -DFMCW_BUILD_BENCH=OFF > build-asan.log 2>&1 || { cat build-asan.log; exit 1; }
+  -DFMCW_BUILD_BENCH=OFF -DFMCW_PCH=ON > build-asan.log 2>&1 || { cat build-asan.log; exit 1; }
 cmake --build build-asan -j"$(nproc)" >> build-asan.log 2>&1 || { tail -50 build-asan.log; exit 1; }
 phase "sanitizer build"
 cd build-asan
