@@ -882,6 +882,18 @@ SyntheticBox straight_then_turning(double t, bool turn) {
   return b;
 }
 
+// The largest error, standard deviation and yaw-rate error (against yaw_rate_rps) of the frames
+// from `from` on.
+Reported worst_from(const std::vector<Reported>& frames, std::size_t from, double yaw_rate_rps = 0.0) {
+  Reported w;
+  for (std::size_t k = from; k < frames.size(); ++k) {
+    w.error_mps = std::max(w.error_mps, frames[k].error_mps);
+    w.sigma_mps = std::max(w.sigma_mps, frames[k].sigma_mps);
+    w.yaw_rate_rps = std::max(w.yaw_rate_rps, std::abs(frames[k].yaw_rate_rps - yaw_rate_rps));
+  }
+  return w;
+}
+
 TEST(ObjectTracker, AVehicleDrivingStraightIsTrackedWithLessNoiseAndItsCovarianceStillCoversItsError) {
   // Driving straight, the track's updates correct it less than the manoeuvring noise expects:
   // its noise comes down, the covariance it reports narrows and the error stays inside it.
@@ -890,17 +902,13 @@ TEST(ObjectTracker, AVehicleDrivingStraightIsTrackedWithLessNoiseAndItsCovarianc
   const std::vector<Reported> fixed = reported(noise_pipeline(false), 40, car);
   ASSERT_EQ(adaptive.size(), 40u);
   ASSERT_EQ(fixed.size(), 40u);
-  double sigma_adaptive = 0.0, sigma_fixed = 0.0, error_adaptive = 0.0, error_fixed = 0.0;
-  for (int k = 25; k < 40; ++k) {
-    sigma_adaptive = std::max(sigma_adaptive, adaptive[k].sigma_mps);
-    sigma_fixed = std::max(sigma_fixed, fixed[k].sigma_mps);
-    error_adaptive = std::max(error_adaptive, adaptive[k].error_mps);
-    error_fixed = std::max(error_fixed, fixed[k].error_mps);
+  for (std::size_t k = 25; k < 40; ++k) {
     // Within three of its largest standard deviations (a bound that does not need the ellipse).
     EXPECT_LT(adaptive[k].error_mps, 3.0 * adaptive[k].sigma_mps) << "frame " << k;
   }
-  EXPECT_LT(sigma_adaptive, 0.85 * sigma_fixed) << sigma_adaptive << " against " << sigma_fixed;
-  EXPECT_LT(error_adaptive, error_fixed + 0.02) << error_adaptive << " against " << error_fixed;
+  const Reported a = worst_from(adaptive, 25), f = worst_from(fixed, 25);
+  EXPECT_LT(a.sigma_mps, 0.85 * f.sigma_mps) << a.sigma_mps << " against " << f.sigma_mps;
+  EXPECT_LT(a.error_mps, f.error_mps + 0.02) << a.error_mps << " against " << f.error_mps;
 }
 
 TEST(ObjectTracker, AVehicleThatTurnsAfterDrivingStraightIsFollowedAsWithTheFixedNoise) {
@@ -912,15 +920,10 @@ TEST(ObjectTracker, AVehicleThatTurnsAfterDrivingStraightIsFollowedAsWithTheFixe
   const std::vector<Reported> fixed = reported(noise_pipeline(false), 45, car);
   ASSERT_EQ(adaptive.size(), 45u);
   ASSERT_EQ(fixed.size(), 45u);
-  double error_adaptive = 0.0, error_fixed = 0.0, yaw_adaptive = 0.0;
-  for (int k = 35; k < 45; ++k) {
-    error_adaptive = std::max(error_adaptive, adaptive[k].error_mps);
-    error_fixed = std::max(error_fixed, fixed[k].error_mps);
-    yaw_adaptive = std::max(yaw_adaptive, std::abs(adaptive[k].yaw_rate_rps - kCircleOmega));
-  }
-  EXPECT_LT(error_adaptive, 0.5);
-  EXPECT_LT(yaw_adaptive, 0.05);
-  EXPECT_LT(error_adaptive, 1.5 * error_fixed + 0.05) << error_adaptive << " against " << error_fixed;
+  const Reported a = worst_from(adaptive, 35, kCircleOmega), f = worst_from(fixed, 35, kCircleOmega);
+  EXPECT_LT(a.error_mps, 0.5);
+  EXPECT_LT(a.yaw_rate_rps, 0.05);
+  EXPECT_LT(a.error_mps, 1.5 * f.error_mps + 0.05) << a.error_mps << " against " << f.error_mps;
 }
 
 TEST(ObjectTracker, TheOutlinesAxisResolvesATurningCarByItsSecondUpdate) {
