@@ -72,8 +72,9 @@ void information_update(Track& t, const Mat5& info, const Vec5& grad, const Trac
   const Vec5 dx = P_new * grad;
   t.x += dx;
   t.x(4) = std::clamp(t.x(4), -p.motion.max_yaw_rate_rps, p.motion.max_yaw_rate_rps);
-  // For a consistent filter E[dx^T P^-1 dx] = tr(P^-1 (P - P_new)) = 5 - tr(P^-1 P_new).
-  adapt_noise(t, dx.dot(P_inv * dx), 5.0 - (P_inv * P_new).trace(), p);
+  // For a consistent filter E[dx^T P^-1 dx] = tr(P^-1 (P - P_new)) = 5 - tr(P^-1 P_new). Not
+  // computed with the fixed noises (the default), on every update of every track.
+  if (p.motion.min_noise_scale < 1.0) adapt_noise(t, dx.dot(P_inv * dx), 5.0 - (P_inv * P_new).trace(), p);
   t.P = 0.5 * (P_new + P_new.transpose());
 }
 
