@@ -20,6 +20,7 @@
 #include "tracking/ctrv.hpp"
 #include "tracking/measurement.hpp"
 #include "tracking/outline_axis.hpp"
+#include "tracking/track_birth.hpp"
 #include "tracking/track_box.hpp"
 
 namespace fmcw::core::tracking {
@@ -493,6 +494,54 @@ TEST(TrackingAssociation, AFaceOfAVehicleBesideItsBoxMovingWithItEnds) {
   TrackerParams only_the_box;  // control: the same face, with only the box grown by claim_margin_m
   only_the_box.fragments.same_motion_margin_m = 0.0;
   EXPECT_FALSE(part_merged(80, 10.0, 3000, 0.6, {}, only_the_box));
+}
+
+// ---- Track birth -----------------------------------------------------------------------------
+
+// A patch 0.3 m by 0.3 m (12 pixels) at (2, 1.5): the corner of a bus alongside the rig, or a
+// walker close by. Its single-scan estimate is given: velocity v, a standard deviation sigma on
+// both horizontal axes, residual RMS rms. Returns the velocity the track is born with, less the
+// velocity expected: v itself (whole) or its part along the beam to the box centre.
+enum class Expected { whole, radial };
+double born_off(const Eigen::Vector2d& v, double sigma, double rms, Expected expected, const TrackerParams& p = {}) {
+  HandScan h;
+  Group g;
+  for (int r = 1; r <= 3; ++r) {
+    for (int c = 5; c <= 8; ++c) {
+      const Eigen::Vector3d q(2.0 + 0.1 * (c - 5), 1.5 + 0.15 * (r - 1), 0.5);
+      h.set(r, c, q, v.dot(q.head<2>().normalized()));
+      g.found.push_back(static_cast<std::uint32_t>(h.scan.index(r, c)));
+    }
+  }
+  const ScanBeams beams(h.scan);
+  const Frame frame = standing_frame(h.scan, beams);
+  ClusterEstimate ce;
+  ce.num_pixels = static_cast<int>(g.found.size());
+  ce.velocity.velocity_mps = Eigen::Vector3d(v.x(), v.y(), 0.0);
+  ce.velocity.covariance = Eigen::Matrix3d::Identity() * sigma * sigma;
+  ce.velocity.residual_rms_mps = rms;
+  ce.velocity.valid = true;
+  const Track tr = start_track(ce, g, 1, frame, ViewEdges(h.scan, p.box.occlusion_gap_m), p);
+  EXPECT_TRUE(tr.small(p));
+  EXPECT_FALSE(tr.outline_cut);
+  const Eigen::Vector2d radial = tr.centre().normalized();  // the rig at the origin
+  return (tr.velocity() - (expected == Expected::whole ? v : Eigen::Vector2d(v.dot(radial) * radial))).norm();
+}
+
+TEST(TrackingBirth, ASmallPatchWhoseScanResolvedAFastRigidMotionIsBornWithIt) {
+  const Eigen::Vector2d v(4.5, 0.0);  // its part along the beam is 3.6 m/s: 2.7 m/s off
+  // Resolved to 0.1 m/s, rigid (RMS 0.03 m/s, under the tracker's Doppler noise of 0.08), 4.5 m/s:
+  // the scan's velocity.
+  EXPECT_LT(born_off(v, 0.1, 0.03, Expected::whole), 1e-9);
+  // Limbs swinging (RMS 0.2 m/s), or the velocity not resolved (0.5 m/s), or no faster than a
+  // walker by three standard deviations (3.2 m/s): the radial part alone.
+  EXPECT_LT(born_off(v, 0.1, 0.2, Expected::radial), 1e-9);
+  EXPECT_LT(born_off(v, 0.5, 0.03, Expected::radial), 1e-9);
+  EXPECT_LT(born_off({3.2, 0.0}, 0.1, 0.03, Expected::radial), 1e-9);
+  // Control: with the rule off, the resolved patch too.
+  TrackerParams off;
+  off.small.rigid_patch_sigma_mps = 0.0;
+  EXPECT_LT(born_off(v, 0.1, 0.03, Expected::radial, off), 1e-9);
 }
 
 // ---- Background model and claims ----------------------------------------------------------

@@ -29,6 +29,15 @@ void small_object_prior(Track& tr, const Eigen::Vector2d& v, const Eigen::Matrix
   tr.P.block<1, 2>(4, 2).setZero();
 }
 
+// The scan resolved the patch's whole velocity (largest variance of the two axes: max_variance)
+// as one rigid motion, faster than a walker by three standard deviations.
+bool rigid_fast_patch(const VelocityEstimate& scan, const Eigen::Vector2d& v, double max_variance, const TrackerParams& p) {
+  const double limit = p.small.rigid_patch_sigma_mps;
+  if (!(limit > 0.0) || !(max_variance >= 0.0) || !(scan.residual_rms_mps <= p.measurement.doppler_sigma_mps)) return false;
+  const double sigma = std::sqrt(max_variance);
+  return sigma <= limit && v.norm() - 3.0 * sigma > p.small.walker_max_speed_mps;
+}
+
 }  // namespace
 
 Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, const Frame& frame, const ViewEdges& edges,
@@ -66,8 +75,11 @@ Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, co
   tr.P.block<1, 2>(4, 2) = -s0 * s0 * sv.transpose();
   tr.P(4, 4) = s0 * s0;
   // A small patch cut sideways by the view or an occluder, faster than a walker, may be the corner
-  // of a car coming into view: its tangential velocity and yaw rate are then no walker's.
-  const bool corner = tr.outline_cut && std::abs(v.dot(d.normalized())) > p.small.walker_max_speed_mps;
+  // of a car coming into view: its tangential velocity and yaw rate are then no walker's. So is a
+  // patch whose scan resolved its whole velocity as one rigid motion faster than a walker
+  // (TrackerParams::Small::rigid_patch_sigma_mps).
+  const bool corner = (tr.outline_cut && std::abs(v.dot(d.normalized())) > p.small.walker_max_speed_mps) ||
+                      rigid_fast_patch(ce.velocity, v, eig.eigenvalues()(1), p);
   if (tr.small(p) && !corner && d.norm() > 0.0) small_object_prior(tr, v, cov, d, p);
   // Where the outline shows the body's axis, the prior's line of velocity and yaw rate meets it.
   Mat5 info = Mat5::Zero();

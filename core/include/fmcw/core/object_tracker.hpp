@@ -53,6 +53,14 @@ struct TrackerParams {
     /// outline is a foot or a hand).
     int walker_hits = 3;
     double walker_max_speed_mps = 3.0;
+    /// A small patch whose single scan resolved its whole velocity (the larger standard
+    /// deviation of the fit's two horizontal axes at most this), as one rigid motion (residual
+    /// RMS at most measurement.doppler_sigma_mps: no swinging limbs), faster than
+    /// walker_max_speed_mps by three of those standard deviations, is part of a body that moves
+    /// as a vehicle does: the corner of a bus alongside the rig, seen at close range across a
+    /// wide angle. It is born with the scan's velocity, as a larger object is, not with the
+    /// radial part alone. 0: never [m/s].
+    double rigid_patch_sigma_mps = 0.25;
   } small;
 
   /// The constant-turn-rate filter.
