@@ -97,6 +97,7 @@ void TrackerParams::validate() const {
   a.positive("vehicle_length_m", association.vehicle_length_m);
   a.non_negative("absorb_max_pixels", association.absorb_max_pixels);
   a.positive("split_min_share (above 1: never split)", association.split_min_share);
+  a.non_negative("doppler_split_rms_mps (0: never)", association.doppler_split_rms_mps);
   const FieldCheck f{"fragments"};
   f.non_negative("max_pixels (0: none)", fragments.max_pixels);
   f.at_least("reach_px", fragments.reach_px, 1);
@@ -189,6 +190,7 @@ void ObjectTracker::update(const Scan& scan, const ScanBeams& beams, MotionEstim
   // Associate: clusters (split where two tracks share one) to the predicted tracks.
   std::vector<std::vector<std::uint32_t>> cluster_pixels = pixels_of_clusters(est);
   split_shared_clusters(frame, est, cluster_pixels, tracks_, boxes, p);
+  split_by_doppler(frame, est, cluster_pixels, tracks_, boxes, p);
   std::vector<Group> groups(tracks_.size());
   Association assoc = associate(frame, cluster_pixels, est, tracks_, boxes, p, groups);
   merge_nested_tracks(tracks_, boxes, p, assoc, groups);

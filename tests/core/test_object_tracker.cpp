@@ -714,6 +714,8 @@ TEST(ObjectTracker, RejectsBadParametersNamingTheField) {
       {[](TrackerParams& p) { p.fragments.same_motion_margin_m = -1.0; },
        "tracking.fragments.same_motion_margin_m (0: only the box) must be >= 0, got -1"},
       {[](TrackerParams& p) { p.fragments.same_motion_mps = -0.5; }, "tracking.fragments.same_motion_mps must be >= 0, got -0.5"},
+      {[](TrackerParams& p) { p.association.doppler_split_rms_mps = -1.0; },
+       "tracking.association.doppler_split_rms_mps (0: never) must be >= 0, got -1"},
       {[](TrackerParams& p) { p.small.rigid_patch_sigma_mps = -0.25; },
        "tracking.small.rigid_patch_sigma_mps (0: never) must be >= 0, got -0.25"},
   };

@@ -432,6 +432,67 @@ TEST(TrackingAssociation, GatesByBoxAndDoppler) {
   EXPECT_EQ(groups[0].absorbed, std::vector<std::int32_t>{2});
 }
 
+// A confirmed track at (20, 0) moving at 5 m/s along x, and one cluster of 20 pixels in its box:
+// 10 that move with it and 10 behind them, in the same box, at `other` (a car passing a cyclist);
+// both halves span 1.5 m across the beams.
+// The cluster's single-scan fit leaves residual RMS `rms`. Returns the clusters after the split.
+std::vector<std::vector<std::uint32_t>> doppler_split(const Eigen::Vector2d& other, double rms, MotionEstimate& est,
+                                                      const TrackerParams& p = {}, double other_spread_mps = 0.0) {
+  HandScan h;
+  est = MotionEstimate{};
+  est.labels.assign(h.scan.size(), 0);
+  ClusterEstimate ce;
+  ce.id = 1;
+  for (int n = 0; n < 20; ++n) {
+    const bool mine = n % 2 == 0;
+    const Eigen::Vector3d q(mine ? 19.8 : 20.3, -0.8 + 0.08 * n, 0.5);
+    const Eigen::Vector2d v = mine ? Eigen::Vector2d(5.0, 0.0) : other;
+    const double spread = mine ? 0.0 : other_spread_mps * ((n / 2) % 2 == 0 ? 1.0 : -1.0);
+    h.set(mine ? 1 : 3, 5 + n, q, q.normalized().head<2>().dot(v) + spread);
+    est.labels[h.scan.index(mine ? 1 : 3, 5 + n)] = 1;
+    ce.centroid_m += q / 20.0;
+  }
+  ce.num_pixels = 20;
+  ce.velocity.velocity_mps = Eigen::Vector3d(10.0, 0.0, 0.0);
+  ce.velocity.residual_rms_mps = rms;
+  ce.velocity.valid = true;
+  est.clusters.push_back(ce);
+  const ScanBeams beams(h.scan);
+  const Frame frame = standing_frame(h.scan, beams);
+  Track tr = track_along_x(20.0, 4.5);
+  tr.x(1) = 0.0;
+  tr.confirmed = true;
+  tr.last_pixels = 10;
+  const std::vector<Track> tracks{tr};
+  const std::vector<Box> boxes{box_of(tr)};
+  auto cluster_pixels = pixels_of_clusters(est);
+  split_by_doppler(frame, est, cluster_pixels, tracks, boxes, p);
+  EXPECT_EQ(cluster_pixels.size(), est.clusters.size());
+  return cluster_pixels;
+}
+
+TEST(TrackingAssociation, AClusterOfTwoMotionsIsSplitByTheDoppler) {
+  MotionEstimate est;
+  // 15 m/s beside the track's 5: no one rigid motion explains the cluster (RMS 3 m/s).
+  const auto parts = doppler_split({15.0, 0.0}, 3.0, est);
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_EQ(parts[0].size(), 10u);  // the track's half keeps the label
+  EXPECT_EQ(parts[1].size(), 10u);
+  for (const std::uint32_t i : parts[1]) EXPECT_EQ(est.labels[i], 2);
+  EXPECT_EQ(est.clusters[1].num_pixels, 10);
+  // The other half's own fit: 15 m/s along x (the scan holds floats).
+  EXPECT_NEAR(est.clusters[1].velocity.velocity_mps.x(), 15.0, 1e-4);
+  EXPECT_NEAR(est.clusters[1].velocity.velocity_mps.y(), 0.0, 1e-3);
+  EXPECT_LT(est.clusters[1].velocity.residual_rms_mps, 1e-3);
+  // Not split: a cluster its own fit explains (RMS 0.5 m/s, under doppler_split_rms_mps); a rest
+  // that is no one rigid motion either (its Doppler +-2 m/s about it); the rule off.
+  EXPECT_EQ(doppler_split({15.0, 0.0}, 0.5, est).size(), 1u);
+  EXPECT_EQ(doppler_split({15.0, 0.0}, 3.0, est, {}, 2.0).size(), 1u);
+  TrackerParams off;
+  off.association.doppler_split_rms_mps = 0.0;
+  EXPECT_EQ(doppler_split({15.0, 0.0}, 3.0, est, off).size(), 1u);
+}
+
 // Two confirmed tracks as old: the host, 10 m long at (20, 0) by default (a truck whose cab and
 // load were born apart in one frame), and the part's, 0.4 times as long, its centre at 0.3
 // times the host's length ahead and 0.05 times aside, inside the host's box; or, with `beside`,
@@ -483,6 +544,14 @@ TEST(TrackingAssociation, ATrackOnAWalkersLimbEndsOnlyWhenTheWalkerShowsTenTimes
   EXPECT_FALSE(part_merged(80, 1.0, 240));
 }
 
+TEST(TrackingAssociation, AHalfOfACarAsOldAsItsOtherHalfAndMovingWithItEnds) {
+  // A car 4.5 m long first seen in two halves, both tracks as old (4 updates), the rear half's
+  // box 1.8 m long with its centre inside the front half's box, 200 pixels against 240.
+  EXPECT_TRUE(part_merged(200, 4.5, 240));
+  EXPECT_FALSE(part_merged(200, 4.5, 240, 0.0, {5.0, 6.0}));  // 1 m/s apart
+  EXPECT_FALSE(part_merged(200, 4.5, 240, 0.0, {2.0, 2.0}));  // at a walker's pace
+}
+
 TEST(TrackingAssociation, AFaceOfAVehicleBesideItsBoxMovingWithItEnds) {
   // A bus alongside shows its side (the host's box, as wide as the face seen) and its front
   // corner (a track of its own 0.6 m beside that box: past claim_margin_m, 0.25 m, within
@@ -509,7 +578,7 @@ double born_off(const Eigen::Vector2d& v, double sigma, double rms, Expected exp
   for (int r = 1; r <= 3; ++r) {
     for (int c = 5; c <= 8; ++c) {
       const Eigen::Vector3d q(2.0 + 0.1 * (c - 5), 1.5 + 0.15 * (r - 1), 0.5);
-      h.set(r, c, q, v.dot(q.head<2>().normalized()));
+      h.set(r, c, q, q.normalized().head<2>().dot(v));
       g.found.push_back(static_cast<std::uint32_t>(h.scan.index(r, c)));
     }
   }

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "fmcw/core/median.hpp"
+#include "fmcw/core/velocity_lsq.hpp"
 #include "../pixel_lists.hpp"
 
 namespace fmcw::core::tracking {
@@ -125,6 +126,90 @@ void split_shared_clusters(const Frame& frame, MotionEstimate& est, std::vector<
     const std::vector<std::size_t> sharers = sharers_of(q, near, tracks, boxes, p, holder);
     if (sharers.size() < 2) continue;
     split_cluster(frame, est, cluster_pixels, c, q, holder, sharers, boxes);
+  }
+}
+
+void split_by_doppler(const Frame& frame, MotionEstimate& est, std::vector<std::vector<std::uint32_t>>& cluster_pixels,
+                      const std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p) {
+  const TrackerParams::Association& pa = p.association;
+  if (!(pa.doppler_split_rms_mps > 0.0)) return;
+  const std::size_t k0 = est.clusters.size();
+  std::vector<std::uint32_t> explained, rest;
+  for (std::size_t c = 0; c < k0; ++c) {
+    const std::vector<std::uint32_t>& px = cluster_pixels[c];
+    // Only a cluster that no one rigid motion explains.
+    if (static_cast<int>(px.size()) < 2 * pa.min_cluster_pixels || !(est.clusters[c].velocity.residual_rms_mps > pa.doppler_split_rms_mps)) {
+      continue;
+    }
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector2d hi = -lo;
+    for (const std::uint32_t i : px) {
+      const Eigen::Vector2d q = frame.world_xy(frame.scan.position(i));
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+    // The track that explains the most of the cluster's pixels in its box, among those that do
+    // not explain the cluster as a whole and explain at least split_min_share of their last
+    // pixels.
+    int best = -1;
+    std::vector<std::uint32_t> best_explained, best_rest;
+    for (std::size_t t = 0; t < tracks.size(); ++t) {
+      const Track& tr = tracks[t];
+      if (!tr.confirmed || tr.misses != 0) continue;
+      const Box& b = boxes[t];
+      const double reach = std::hypot(b.half_l, b.half_w) + p.claims.claim_margin_m;
+      if ((b.centre - b.centre.cwiseMax(lo).cwiseMin(hi)).norm() > reach) continue;  // no pixel in its box
+      if (doppler_deviation(frame, px, tr) <= pa.doppler_tolerance_mps) continue;   // the whole cluster is its
+      explained.clear();
+      rest.clear();
+      for (const std::uint32_t i : px) {
+        const Row r = frame.row_of(i);
+        const bool mine = std::abs(r.y - predicted(r, tr.x)) <= pa.doppler_tolerance_mps &&
+                          b.contains(frame.world_xy(frame.scan.position(i)), p.claims.claim_margin_m);
+        (mine ? explained : rest).push_back(i);
+      }
+      const double need = std::max(static_cast<double>(pa.min_cluster_pixels), pa.split_min_share * static_cast<double>(tr.last_pixels));
+      if (static_cast<double>(explained.size()) < need || static_cast<int>(rest.size()) < pa.min_cluster_pixels) continue;
+      if (best < 0 || explained.size() > best_explained.size()) {
+        best = static_cast<int>(t);
+        best_explained.swap(explained);
+        best_rest.swap(rest);
+      }
+    }
+    if (best < 0) continue;
+    // The rest, fitted on its own, must be one rigid motion too (explained as a track's motion
+    // must explain a cluster): else no split.
+    VelocityRows rows;
+    rows.directions.reserve(best_rest.size());
+    rows.targets_mps.reserve(best_rest.size());
+    for (const std::uint32_t i : best_rest) {
+      const Eigen::Vector3d e = frame.beams.e(i);
+      rows.directions.push_back(e);
+      rows.targets_mps.push_back(frame.scan.radial_velocity_mps[i] + e.dot(frame.V + frame.omega.cross(frame.beams.origin_of(i))));
+    }
+    const VelocityEstimate rest_fit = solve_velocity_planar_robust(rows, p.measurement.doppler_sigma_mps);
+    if (!(rest_fit.residual_rms_mps <= pa.doppler_tolerance_mps)) continue;
+    // The track's part keeps the label (the association finds its Doppler explained); the rest
+    // is a cluster of its own, with that fit.
+    const std::size_t slot = est.clusters.size();
+    est.clusters.push_back(est.clusters[c]);
+    ClusterEstimate& other = est.clusters.back();
+    other.id = static_cast<std::int32_t>(slot + 1);
+    other.centroid_m = Eigen::Vector3d::Zero();
+    for (const std::uint32_t i : best_rest) {
+      other.centroid_m += frame.scan.position(i);
+      est.labels[i] = static_cast<std::int32_t>(slot + 1);
+    }
+    other.centroid_m /= static_cast<double>(best_rest.size());
+    other.num_pixels = static_cast<int>(best_rest.size());
+    other.velocity = rest_fit;
+    ClusterEstimate& mine = est.clusters[c];
+    mine.num_pixels = static_cast<int>(best_explained.size());
+    mine.centroid_m = Eigen::Vector3d::Zero();
+    for (const std::uint32_t i : best_explained) mine.centroid_m += frame.scan.position(i);
+    mine.centroid_m /= static_cast<double>(best_explained.size());
+    cluster_pixels[c] = std::move(best_explained);
+    cluster_pixels.push_back(std::move(best_rest));
   }
 }
 
@@ -268,7 +353,9 @@ void merge_nested_tracks(std::vector<Track>& tracks, const std::vector<Box>& box
     // the one that now finds a few times fewer pixels than the other follows a part.
     const bool much_larger = host.hits >= tracks[t].hits && host.last_pixels >= ratio * tracks[t].last_pixels;
     if (small_host && !(host.confirmed && much_larger)) continue;
-    if (host.hits <= tracks[t].hits && !much_larger) continue;
+    // As old and moving with it: a part of the vehicle too (a car first seen in two halves).
+    const bool twin = !small_host && host.hits == tracks[t].hits && moves_with(host, tracks[t], p);
+    if (host.hits <= tracks[t].hits && !much_larger && !twin) continue;
     if (tracks[t].vehicle(p) && tracks[t].confirmed && !much_larger) continue;  // two vehicles: leave to the split
     Group& into = groups[static_cast<std::size_t>(u)];
     for (const std::int32_t l : groups[t].clusters) {

@@ -21,6 +21,19 @@ std::vector<std::vector<std::uint32_t>> pixels_of_clusters(const MotionEstimate&
 void split_shared_clusters(const Frame& frame, MotionEstimate& est, std::vector<std::vector<std::uint32_t>>& cluster_pixels,
                            const std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p);
 
+/// A cluster of two bodies moving otherwise (a car passing a cyclist at arm's length: one cluster
+/// in the image, two motions in its Doppler) is split by the Doppler. Only a cluster that no one
+/// rigid motion explains: its single-scan fit leaves a residual RMS above
+/// association.doppler_split_rms_mps. A confirmed track seen last frame whose motion does not
+/// explain the cluster as a whole (doppler_deviation above association.doppler_tolerance_mps), but
+/// explains, within that tolerance, at least association.split_min_share of its last pixels
+/// inside its predicted box (grown by claims.claim_margin_m), keeps those pixels under the label;
+/// the rest becomes a cluster of its own with its own single-scan fit (planar, robust), if that
+/// fit explains it as one rigid motion (residual RMS at most doppler_tolerance_mps). Of several
+/// such tracks, the one that explains the most pixels.
+void split_by_doppler(const Frame& frame, MotionEstimate& est, std::vector<std::vector<std::uint32_t>>& cluster_pixels,
+                      const std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p);
+
 /// Median |Doppler - the track's prediction| over (at most about 256 of) the pixels.
 double doppler_deviation(const Frame& frame, const std::vector<std::uint32_t>& pixels, const Track& track);
 
@@ -46,8 +59,9 @@ Association associate(const Frame& frame, const std::vector<std::vector<std::uin
 /// fragments.same_motion_mps) follows a piece of that vehicle (it was born from a wheel or a part seen
 /// apart): its clusters go under the vehicle's label, unmeasured, and the track ends this frame.
 /// So it does inside a vehicle as old whose last update found fragments.host_ratio times its
-/// pixels (two tracks born in one frame from the cab and the load of a truck). Two confirmed
-/// vehicles are otherwise left alone (split_shared_clusters parts them).
+/// pixels (two tracks born in one frame from the cab and the load of a truck), or that is as old,
+/// no vehicle itself, and moves with it (a car first seen in two halves). Two confirmed vehicles
+/// are otherwise left alone (split_shared_clusters parts them).
 void merge_nested_tracks(std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p,
                          Association& a, std::vector<Group>& groups);
 

@@ -153,6 +153,10 @@ struct TrackerParams {
     /// least this share of the pixels that track had last frame (two cars nose to tail at one
     /// speed make one cluster).
     double split_min_share = 0.5;
+    /// A cluster that no one rigid motion explains (its single-scan fit leaves a residual RMS
+    /// above this) is split by the Doppler where a track explains a part of it
+    /// (split_by_doppler in core/src/tracking/association.hpp). 0: never [m/s].
+    double doppler_split_rms_mps = 1.0;
   } association;
 
   /// Pieces of a tracked object seen apart in the range image (wheels, mirrors, limbs with a
