@@ -24,6 +24,57 @@ std::vector<std::vector<std::uint32_t>> pixels_of_clusters(const MotionEstimate&
 
 namespace {
 
+// A cluster's pixels in the world plane, with their extent.
+struct WorldPixels {
+  std::vector<Eigen::Vector2d> q;
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d hi = -lo;
+};
+
+WorldPixels world_pixels(const Frame& frame, const std::vector<std::uint32_t>& px) {
+  WorldPixels w;
+  w.q.resize(px.size());
+  for (std::size_t n = 0; n < px.size(); ++n) {
+    w.q[n] = frame.world_xy(frame.scan.position(px[n]));
+    w.lo = w.lo.cwiseMin(w.q[n]);
+    w.hi = w.hi.cwiseMax(w.q[n]);
+  }
+  return w;
+}
+
+// Whether box b (grown by claim_margin_m) can hold any pixel within the extent.
+bool reaches(const Box& b, const WorldPixels& w, const TrackerParams& p) {
+  const double reach = std::hypot(b.half_l, b.half_w) + p.claims.claim_margin_m;
+  return (b.centre - (b.centre.cwiseMax(w.lo).cwiseMin(w.hi))).norm() <= reach;
+}
+
+// The pixels of a cluster a track must hold to keep its part of it: split_min_share of those it
+// had last frame, and at least min_cluster_pixels.
+double split_need(const Track& t, const TrackerParams& p) {
+  return std::max(static_cast<double>(p.association.min_cluster_pixels),
+                  p.association.split_min_share * static_cast<double>(t.last_pixels));
+}
+
+// Pixels `part` become cluster `slot` (label slot + 1); a new slot (est.clusters.size()) starts
+// as a copy of `whole`.
+void assign_part(const Frame& frame, MotionEstimate& est, std::vector<std::vector<std::uint32_t>>& cluster_pixels,
+                 std::size_t slot, const ClusterEstimate& whole, std::vector<std::uint32_t> part) {
+  if (slot == est.clusters.size()) {
+    est.clusters.push_back(whole);
+    est.clusters.back().id = static_cast<std::int32_t>(slot + 1);
+    cluster_pixels.emplace_back();
+  }
+  ClusterEstimate& ce = est.clusters[slot];
+  ce.num_pixels = static_cast<int>(part.size());
+  ce.centroid_m = Eigen::Vector3d::Zero();
+  for (const std::uint32_t i : part) {
+    ce.centroid_m += frame.scan.position(i);
+    est.labels[i] = static_cast<std::int32_t>(slot + 1);
+  }
+  ce.centroid_m /= static_cast<double>(part.size());
+  cluster_pixels[slot] = std::move(part);
+}
+
 // The tracks (of `near`) whose boxes hold a share of the cluster's pixels q: per pixel its
 // holder (-1: none), and the sharers.
 std::vector<std::size_t> sharers_of(const std::vector<Eigen::Vector2d>& q, const std::vector<std::size_t>& near,
@@ -45,9 +96,7 @@ std::vector<std::size_t> sharers_of(const std::vector<Eigen::Vector2d>& q, const
   }
   std::vector<std::size_t> sharers;
   for (const std::size_t t : near) {
-    const double need = std::max(static_cast<double>(p.association.min_cluster_pixels),
-                                 p.association.split_min_share * static_cast<double>(tracks[t].last_pixels));
-    if (held[t] >= need) sharers.push_back(t);
+    if (held[t] >= split_need(tracks[t], p)) sharers.push_back(t);
   }
   return sharers;
 }
@@ -73,22 +122,7 @@ void split_cluster(const Frame& frame, MotionEstimate& est, std::vector<std::vec
   const ClusterEstimate whole = est.clusters[c];
   for (std::size_t s = 0; s < parts.size(); ++s) {
     if (parts[s].empty()) continue;
-    const bool first = s == 0;
-    const std::size_t slot = first ? c : est.clusters.size();
-    if (!first) {
-      est.clusters.push_back(whole);
-      est.clusters.back().id = static_cast<std::int32_t>(slot + 1);
-      cluster_pixels.emplace_back();
-    }
-    ClusterEstimate& ce = est.clusters[slot];
-    ce.num_pixels = static_cast<int>(parts[s].size());
-    ce.centroid_m = Eigen::Vector3d::Zero();
-    for (const std::uint32_t i : parts[s]) {
-      ce.centroid_m += frame.scan.position(i);
-      est.labels[i] = static_cast<std::int32_t>(slot + 1);
-    }
-    ce.centroid_m /= static_cast<double>(parts[s].size());
-    cluster_pixels[slot] = std::move(parts[s]);
+    assign_part(frame, est, cluster_pixels, s == 0 ? c : est.clusters.size(), whole, std::move(parts[s]));
   }
 }
 
@@ -107,25 +141,16 @@ void split_shared_clusters(const Frame& frame, MotionEstimate& est, std::vector<
   for (std::size_t c = 0; c < k0; ++c) {
     const std::vector<std::uint32_t>& px = cluster_pixels[c];
     if (static_cast<int>(px.size()) < 2 * p.association.min_cluster_pixels) continue;
-    std::vector<Eigen::Vector2d> q(px.size());
-    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
-    Eigen::Vector2d hi = -lo;
-    for (std::size_t n = 0; n < px.size(); ++n) {
-      q[n] = frame.world_xy(frame.scan.position(px[n]));
-      lo = lo.cwiseMin(q[n]);
-      hi = hi.cwiseMax(q[n]);
-    }
+    const WorldPixels w = world_pixels(frame, px);
     // Only boxes that reach the cluster's extent can hold its pixels.
     near.clear();
     for (const std::size_t t : eligible) {
-      const Box& b = boxes[t];
-      const double reach = std::hypot(b.half_l, b.half_w) + p.claims.claim_margin_m;
-      if ((b.centre - (b.centre.cwiseMax(lo).cwiseMin(hi))).norm() <= reach) near.push_back(t);
+      if (reaches(boxes[t], w, p)) near.push_back(t);
     }
     if (near.size() < 2) continue;
-    const std::vector<std::size_t> sharers = sharers_of(q, near, tracks, boxes, p, holder);
+    const std::vector<std::size_t> sharers = sharers_of(w.q, near, tracks, boxes, p, holder);
     if (sharers.size() < 2) continue;
-    split_cluster(frame, est, cluster_pixels, c, q, holder, sharers, boxes);
+    split_cluster(frame, est, cluster_pixels, c, w.q, holder, sharers, boxes);
   }
 }
 
@@ -141,13 +166,7 @@ void split_by_doppler(const Frame& frame, MotionEstimate& est, std::vector<std::
     if (static_cast<int>(px.size()) < 2 * pa.min_cluster_pixels || !(est.clusters[c].velocity.residual_rms_mps > pa.doppler_split_rms_mps)) {
       continue;
     }
-    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
-    Eigen::Vector2d hi = -lo;
-    for (const std::uint32_t i : px) {
-      const Eigen::Vector2d q = frame.world_xy(frame.scan.position(i));
-      lo = lo.cwiseMin(q);
-      hi = hi.cwiseMax(q);
-    }
+    const WorldPixels w = world_pixels(frame, px);
     // The track that explains the most of the cluster's pixels in its box, among those that do
     // not explain the cluster as a whole and explain at least split_min_share of their last
     // pixels.
@@ -156,20 +175,17 @@ void split_by_doppler(const Frame& frame, MotionEstimate& est, std::vector<std::
     for (std::size_t t = 0; t < tracks.size(); ++t) {
       const Track& tr = tracks[t];
       if (!tr.confirmed || tr.misses != 0) continue;
-      const Box& b = boxes[t];
-      const double reach = std::hypot(b.half_l, b.half_w) + p.claims.claim_margin_m;
-      if ((b.centre - b.centre.cwiseMax(lo).cwiseMin(hi)).norm() > reach) continue;  // no pixel in its box
-      if (doppler_deviation(frame, px, tr) <= pa.doppler_tolerance_mps) continue;   // the whole cluster is its
+      if (!reaches(boxes[t], w, p)) continue;                                       // no pixel in its box
+      if (doppler_deviation(frame, px, tr) <= pa.doppler_tolerance_mps) continue;  // the whole cluster is its
       explained.clear();
       rest.clear();
-      for (const std::uint32_t i : px) {
-        const Row r = frame.row_of(i);
+      for (std::size_t n = 0; n < px.size(); ++n) {
+        const Row r = frame.row_of(px[n]);
         const bool mine = std::abs(r.y - predicted(r, tr.x)) <= pa.doppler_tolerance_mps &&
-                          b.contains(frame.world_xy(frame.scan.position(i)), p.claims.claim_margin_m);
-        (mine ? explained : rest).push_back(i);
+                          boxes[t].contains(w.q[n], p.claims.claim_margin_m);
+        (mine ? explained : rest).push_back(px[n]);
       }
-      const double need = std::max(static_cast<double>(pa.min_cluster_pixels), pa.split_min_share * static_cast<double>(tr.last_pixels));
-      if (static_cast<double>(explained.size()) < need || static_cast<int>(rest.size()) < pa.min_cluster_pixels) continue;
+      if (static_cast<double>(explained.size()) < split_need(tr, p) || static_cast<int>(rest.size()) < pa.min_cluster_pixels) continue;
       if (best < 0 || explained.size() > best_explained.size()) {
         best = static_cast<int>(t);
         best_explained.swap(explained);
@@ -183,33 +199,18 @@ void split_by_doppler(const Frame& frame, MotionEstimate& est, std::vector<std::
     rows.directions.reserve(best_rest.size());
     rows.targets_mps.reserve(best_rest.size());
     for (const std::uint32_t i : best_rest) {
-      const Eigen::Vector3d e = frame.beams.e(i);
-      rows.directions.push_back(e);
-      rows.targets_mps.push_back(frame.scan.radial_velocity_mps[i] + e.dot(frame.V + frame.omega.cross(frame.beams.origin_of(i))));
+      rows.directions.push_back(frame.beams.e(i));
+      rows.targets_mps.push_back(frame.row_of(i).y);  // the Doppler, ego-compensated
     }
     const VelocityEstimate rest_fit = solve_velocity_planar_robust(rows, p.measurement.doppler_sigma_mps);
     if (!(rest_fit.residual_rms_mps <= pa.doppler_tolerance_mps)) continue;
     // The track's part keeps the label (the association finds its Doppler explained); the rest
     // is a cluster of its own, with that fit.
+    const ClusterEstimate whole = est.clusters[c];
     const std::size_t slot = est.clusters.size();
-    est.clusters.push_back(est.clusters[c]);
-    ClusterEstimate& other = est.clusters.back();
-    other.id = static_cast<std::int32_t>(slot + 1);
-    other.centroid_m = Eigen::Vector3d::Zero();
-    for (const std::uint32_t i : best_rest) {
-      other.centroid_m += frame.scan.position(i);
-      est.labels[i] = static_cast<std::int32_t>(slot + 1);
-    }
-    other.centroid_m /= static_cast<double>(best_rest.size());
-    other.num_pixels = static_cast<int>(best_rest.size());
-    other.velocity = rest_fit;
-    ClusterEstimate& mine = est.clusters[c];
-    mine.num_pixels = static_cast<int>(best_explained.size());
-    mine.centroid_m = Eigen::Vector3d::Zero();
-    for (const std::uint32_t i : best_explained) mine.centroid_m += frame.scan.position(i);
-    mine.centroid_m /= static_cast<double>(best_explained.size());
-    cluster_pixels[c] = std::move(best_explained);
-    cluster_pixels.push_back(std::move(best_rest));
+    assign_part(frame, est, cluster_pixels, slot, whole, std::move(best_rest));
+    est.clusters[slot].velocity = rest_fit;
+    assign_part(frame, est, cluster_pixels, c, whole, std::move(best_explained));
   }
 }
 
