@@ -433,18 +433,19 @@ TEST(TrackingAssociation, GatesByBoxAndDoppler) {
 }
 
 // A confirmed track at (20, 0) moving at 5 m/s along x, and one cluster of 20 pixels in its box:
-// 10 that move with it and 10 behind them, in the same box, at `other` (a car passing a cyclist);
-// both halves span 1.5 m across the beams.
+// 20 - n_other that move with it and n_other behind them, in the same box, at `other` (a car
+// passing a cyclist); both parts span the cluster's 1.5 m across the beams.
 // The cluster's single-scan fit leaves residual RMS `rms`. Returns the clusters after the split.
 std::vector<std::vector<std::uint32_t>> doppler_split(const Eigen::Vector2d& other, double rms, MotionEstimate& est,
-                                                      const TrackerParams& p = {}, double other_spread_mps = 0.0) {
+                                                      const TrackerParams& p = {}, double other_spread_mps = 0.0,
+                                                      int n_other = 10) {
   HandScan h;
   est = MotionEstimate{};
   est.labels.assign(h.scan.size(), 0);
   ClusterEstimate ce;
   ce.id = 1;
   for (int n = 0; n < 20; ++n) {
-    const bool mine = n % 2 == 0;
+    const bool mine = n % 2 == 0 || n / 2 >= n_other;
     const Eigen::Vector3d q(mine ? 19.8 : 20.3, -0.8 + 0.08 * n, 0.5);
     const Eigen::Vector2d v = mine ? Eigen::Vector2d(5.0, 0.0) : other;
     const double spread = mine ? 0.0 : other_spread_mps * ((n / 2) % 2 == 0 ? 1.0 : -1.0);
@@ -491,6 +492,9 @@ TEST(TrackingAssociation, AClusterOfTwoMotionsIsSplitByTheDoppler) {
   TrackerParams off;
   off.association.doppler_split_rms_mps = 0.0;
   EXPECT_EQ(doppler_split({15.0, 0.0}, 3.0, est, off).size(), 1u);
+  // Nor a cluster whose Doppler the track explains as a whole (12 of its 20 pixels: the median),
+  // though the 8 others would make a cluster of their own.
+  EXPECT_EQ(doppler_split({15.0, 0.0}, 3.0, est, {}, 0.0, 8).size(), 1u);
 }
 
 // Two confirmed tracks as old: the host, 10 m long at (20, 0) by default (a truck whose cab and
