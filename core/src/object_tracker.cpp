@@ -43,6 +43,12 @@ int TrackerParams::Association::min_pixels_at(double range_m) const {
   return std::max(min_far_cluster_pixels, static_cast<int>(std::ceil(min_cluster_pixels * q * q)));
 }
 
+double Track::covariance_scale(const TrackerParams& p) const {
+  const TrackerParams::Calibration& c = p.calibration;
+  if (!c.enabled || unsteady(p)) return 1.0;
+  return std::clamp((corrections + c.prior_dof) / (expected_corrections + c.prior_dof), c.min_scale, 1.0);
+}
+
 void TrackerParams::validate() const {
   const FieldCheck m{"measurement"};
   m.positive("doppler_sigma_mps", measurement.doppler_sigma_mps);
@@ -67,6 +73,12 @@ void TrackerParams::validate() const {
   mo.positive("max_yaw_rate_rps", motion.max_yaw_rate_rps);
   mo.positive("min_noise_scale", motion.min_noise_scale);
   FMCW_CHECK_ARG(motion.min_noise_scale <= 1.0, "tracking.motion.min_noise_scale must be <= 1, got ", motion.min_noise_scale);
+  const FieldCheck ca{"calibration"};
+  ca.non_negative("memory", calibration.memory);
+  FMCW_CHECK_ARG(calibration.memory < 1.0, "tracking.calibration.memory must be < 1, got ", calibration.memory);
+  ca.positive("prior_dof", calibration.prior_dof);
+  ca.positive("min_scale", calibration.min_scale);
+  FMCW_CHECK_ARG(calibration.min_scale <= 1.0, "tracking.calibration.min_scale must be <= 1, got ", calibration.min_scale);
   mo.non_negative("noise_gain_up", motion.noise_gain_up);
   mo.non_negative("noise_gain_down", motion.noise_gain_down);
   FMCW_CHECK_ARG(motion.noise_gain_down < 1.0, "tracking.motion.noise_gain_down must be < 1, got ", motion.noise_gain_down);

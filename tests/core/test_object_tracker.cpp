@@ -718,6 +718,11 @@ TEST(ObjectTracker, RejectsBadParametersNamingTheField) {
        "tracking.association.doppler_split_rms_mps (0: never) must be >= 0, got -1"},
       {[](TrackerParams& p) { p.small.rigid_patch_sigma_mps = -0.25; },
        "tracking.small.rigid_patch_sigma_mps (0: never) must be >= 0, got -0.25"},
+      {[](TrackerParams& p) { p.calibration.memory = 1.0; }, "tracking.calibration.memory must be < 1, got 1"},
+      {[](TrackerParams& p) { p.calibration.memory = -0.1; }, "tracking.calibration.memory must be >= 0, got -0.1"},
+      {[](TrackerParams& p) { p.calibration.prior_dof = 0.0; }, "tracking.calibration.prior_dof must be > 0, got 0"},
+      {[](TrackerParams& p) { p.calibration.min_scale = 0.0; }, "tracking.calibration.min_scale must be > 0, got 0"},
+      {[](TrackerParams& p) { p.calibration.min_scale = 2.0; }, "tracking.calibration.min_scale must be <= 1, got 2"},
   };
   for (const auto& [set, expected] : cases) {
     TrackerParams p;
@@ -913,6 +918,44 @@ TEST(ObjectTracker, AVehicleDrivingStraightIsTrackedWithLessNoiseAndItsCovarianc
   const Reported a = worst_from(adaptive, 25), f = worst_from(fixed, 25);
   EXPECT_LT(a.sigma_mps, 0.85 * f.sigma_mps) << a.sigma_mps << " against " << f.sigma_mps;
   EXPECT_LT(a.error_mps, f.error_mps + 0.02) << a.error_mps << " against " << f.error_mps;
+}
+
+// The tracked pipeline with its reported covariance matched to the track's updates (the
+// default) or the filter's own.
+MotionPipeline calibration_pipeline(bool matched) {
+  MotionPipelineParams params = MotionPipelineParams::preset("tracked");
+  params.tracking.calibration.enabled = matched;
+  return MotionPipeline(params);
+}
+
+TEST(ObjectTracker, AVehicleDrivingSteadilyReportsTheCovarianceItsUpdatesShowWithTheSameEstimate) {
+  // Driving straight at 6 m/s under sensor noise of 0.031 m/s (the filter assumes 0.08 m/s and
+  // a manoeuvring object): its updates correct it far less than its covariance expects. The
+  // covariance reported narrows; the estimate is the same to the bit; the error stays inside
+  // the 99.9 % ellipse's bound (3.7 of the largest standard deviation).
+  const auto car = [](double t) { return straight_then_turning(t, false); };
+  const std::vector<Reported> matched = reported(calibration_pipeline(true), 40, car);
+  const std::vector<Reported> own = reported(calibration_pipeline(false), 40, car);
+  ASSERT_EQ(matched.size(), 40u);
+  ASSERT_EQ(own.size(), 40u);
+  for (std::size_t k = 0; k < 40; ++k) {
+    EXPECT_EQ(matched[k].error_mps, own[k].error_mps) << "frame " << k;
+    EXPECT_LE(matched[k].sigma_mps, own[k].sigma_mps) << "frame " << k;
+  }
+  for (std::size_t k = 25; k < 40; ++k) {
+    EXPECT_LT(matched[k].sigma_mps, 0.5 * own[k].sigma_mps) << "frame " << k;
+    EXPECT_LT(matched[k].error_mps, 3.7 * matched[k].sigma_mps) << "frame " << k;
+  }
+  // Turning (0.4 rad/s, from 1 s into the turn): the filter's own covariance, as the updates of
+  // a steady past say nothing of a turn.
+  const auto turning = [](double t) { return straight_then_turning(t, true); };
+  const std::vector<Reported> matched_turn = reported(calibration_pipeline(true), 45, turning);
+  const std::vector<Reported> own_turn = reported(calibration_pipeline(false), 45, turning);
+  ASSERT_EQ(matched_turn.size(), 45u);
+  ASSERT_EQ(own_turn.size(), 45u);
+  for (std::size_t k = 35; k < 45; ++k) {
+    EXPECT_EQ(matched_turn[k].sigma_mps, own_turn[k].sigma_mps) << "frame " << k;
+  }
 }
 
 TEST(ObjectTracker, AVehicleThatTurnsAfterDrivingStraightIsFollowedAsWithTheFixedNoise) {

@@ -131,45 +131,132 @@ TEST(TrackingCtrv, TheNoiseScaleFollowsTheCorrectionsWithinItsBounds) {
   EXPECT_EQ(f.noise_scale, 1.0);
 }
 
+// A linear case for the filter's consistency: a car track with a correlated prior, and a
+// measurement of its position, its velocity along x and a Doppler-like row on the velocity
+// along y and the yaw rate.
+struct LinearCase {
+  Track prior = car_track(10.0);
+  Eigen::Matrix<double, 4, 5> H = Eigen::Matrix<double, 4, 5>::Zero();
+  Eigen::Vector4d r_sigma{0.7, 0.7, 0.1, 0.1};
+  Eigen::Matrix4d R_inv;
+  Mat5 info;
+  LinearCase() {
+    Eigen::Matrix<double, 5, 5> A = Eigen::Matrix<double, 5, 5>::Identity();
+    A(2, 4) = 0.3;
+    A(0, 2) = 0.1;
+    prior.P = A * Eigen::Matrix<double, 5, 1>(0.5, 0.4, 1.0, 0.8, 0.1).asDiagonal() * A.transpose();
+    H(0, 0) = H(1, 1) = H(2, 2) = 1.0;
+    H(3, 3) = 1.0;
+    H(3, 4) = 5.0;
+    R_inv = r_sigma.cwiseInverse().cwiseAbs2().asDiagonal();
+    info = H.transpose() * R_inv * H;
+    L = Eigen::LLT<Mat5>(prior.P).matrixL();
+  }
+  Mat5 L;  ///< Cholesky factor of the prior's covariance
+  /// A truth drawn from N(x, scale P), measured with noise of scale R; `t` (the prior, with
+  /// whatever sums it carries) updated by that measurement. Returns the truth.
+  Vec5 draw_and_update(Track& t, double scale, std::mt19937_64& rng, std::normal_distribution<double>& n01,
+                       const TrackerParams& p) const {
+    Vec5 z5;
+    for (int j = 0; j < 5; ++j) z5(j) = n01(rng);
+    const Vec5 truth = prior.x + std::sqrt(scale) * (L * z5);
+    Eigen::Vector4d y = H * truth;
+    for (int j = 0; j < 4; ++j) y(j) += std::sqrt(scale) * r_sigma(j) * n01(rng);
+    information_update(t, info, H.transpose() * R_inv * (y - H * prior.x), p);
+    return truth;
+  }
+};
+
 TEST(TrackingCtrv, TheCorrectionOfAConsistentFilterIsWhatItExpects) {
   // Monte Carlo cross-check of E[dx^T P^-1 dx] = 5 - tr(P^-1 P_updated): states drawn from the
   // prior N(x, P), a linear measurement of position and velocity (and a Doppler-like row on the
   // yaw rate) drawn with its noise; the information update's corrections, averaged, give the
   // expectation, and with the truth drawn from P / 4 (a filter too cautious) a quarter of it.
-  Track prior = car_track(10.0);
-  Eigen::Matrix<double, 5, 5> A = Eigen::Matrix<double, 5, 5>::Identity();
-  A(2, 4) = 0.3;
-  A(0, 2) = 0.1;
-  prior.P = A * Eigen::Matrix<double, 5, 1>(0.5, 0.4, 1.0, 0.8, 0.1).asDiagonal() * A.transpose();
-  Eigen::Matrix<double, 4, 5> H = Eigen::Matrix<double, 4, 5>::Zero();
-  H(0, 0) = H(1, 1) = H(2, 2) = 1.0;
-  H(3, 3) = 1.0;
-  H(3, 4) = 5.0;
-  const Eigen::Vector4d r_sigma(0.7, 0.7, 0.1, 0.1);
-  const Eigen::Matrix4d R_inv = r_sigma.cwiseInverse().cwiseAbs2().asDiagonal();
-  const Mat5 info = H.transpose() * R_inv * H;
-  const Mat5 P_inv = prior.P.inverse();
-  const double expected = 5.0 - (P_inv * (P_inv + info).inverse()).trace();
-  const Eigen::LLT<Mat5> chol(prior.P);
+  const LinearCase lc;
+  const Mat5 P_inv = lc.prior.P.inverse();
+  const double expected = 5.0 - (P_inv * (P_inv + lc.info).inverse()).trace();
   std::mt19937_64 rng(7);
   std::normal_distribution<double> n01;
   for (const double truth_scale : {1.0, 0.25}) {
     double sum = 0.0;
     const int draws = 20000;
     for (int k = 0; k < draws; ++k) {
-      Vec5 z5;
-      for (int j = 0; j < 5; ++j) z5(j) = n01(rng);
-      const Mat5 L = chol.matrixL();
-      const Vec5 truth = prior.x + std::sqrt(truth_scale) * (L * z5);
-      Eigen::Vector4d y = H * truth;
-      for (int j = 0; j < 4; ++j) y(j) += std::sqrt(truth_scale) * r_sigma(j) * n01(rng);
-      Track t = prior;
-      information_update(t, info, H.transpose() * R_inv * (y - H * prior.x), TrackerParams{});  // fixed noise
-      const Vec5 dx = t.x - prior.x;
+      Track t = lc.prior;
+      lc.draw_and_update(t, truth_scale, rng, n01, TrackerParams{});  // fixed noise
+      const Vec5 dx = t.x - lc.prior.x;
       sum += dx.dot(P_inv * dx);
     }
     EXPECT_NEAR(sum / draws / expected, truth_scale, 0.03) << "truth drawn from " << truth_scale << " P";
   }
+}
+
+TEST(TrackingCtrv, TheCovarianceScaleFollowsTheCorrectionsWithinItsBounds) {
+  TrackerParams p;  // memory 0.9, prior_dof 1, min_scale 0.05
+  Track t = car_track(10.0);
+  EXPECT_DOUBLE_EQ(t.covariance_scale(p), 1.0);  // no update yet: the filter's covariance
+  follow_corrections(t, 0.5, 2.0, p.calibration);
+  follow_corrections(t, 0.25, 1.0, p.calibration);
+  EXPECT_DOUBLE_EQ(t.corrections, 0.9 * 0.5 + 0.25);
+  EXPECT_DOUBLE_EQ(t.expected_corrections, 0.9 * 2.0 + 1.0);
+  EXPECT_DOUBLE_EQ(t.covariance_scale(p), (0.7 + 1.0) / (2.8 + 1.0));
+  // A correction or an expectation that is not finite and positive says nothing.
+  follow_corrections(t, std::numeric_limits<double>::quiet_NaN(), 2.0, p.calibration);
+  follow_corrections(t, 1.0, 0.0, p.calibration);
+  follow_corrections(t, 1.0, std::numeric_limits<double>::infinity(), p.calibration);
+  EXPECT_DOUBLE_EQ(t.corrections, 0.7);
+  // Within [min_scale, 1].
+  for (int k = 0; k < 200; ++k) follow_corrections(t, 0.0, 3.0, p.calibration);
+  EXPECT_DOUBLE_EQ(t.covariance_scale(p), p.calibration.min_scale);
+  Track wild = car_track(10.0);
+  follow_corrections(wild, 30.0, 3.0, p.calibration);
+  EXPECT_DOUBLE_EQ(wild.covariance_scale(p), 1.0);
+  // Unsteady tracks (turning, at a walker's pace, small) and the rule off: the filter's covariance.
+  for (Track other : {car_track(10.0, 0.1), car_track(2.0)}) {
+    other.corrections = 0.0;
+    other.expected_corrections = 30.0;
+    EXPECT_EQ(other.covariance_scale(p), 1.0);
+  }
+  Track walker = car_track(10.0);
+  walker.length_m = walker.width_m = 0.6;
+  walker.expected_corrections = 30.0;
+  EXPECT_EQ(walker.covariance_scale(p), 1.0);
+  TrackerParams off;
+  off.calibration.enabled = false;
+  EXPECT_EQ(t.covariance_scale(off), 1.0);
+}
+
+TEST(TrackingCtrv, AFilterTooCautiousReportsACovarianceItsErrorsFill) {
+  // A filter whose noises are four times the truth's (the truth drawn from P / 4, the
+  // measurements with a quarter of their variance): its own velocity covariance holds the
+  // error inside the 95 % ellipse almost always; scaled as its corrections say, 95 % of the
+  // time. Updates in sequence, the sums carried from one to the next (memory 0.99).
+  TrackerParams p;
+  p.calibration.memory = 0.99;
+  p.turning.min_turn_rate_rps = 10.0;  // the yaw rates drawn here would make some tracks unsteady
+  const LinearCase lc;
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> n01;
+  double corrections = 0.0, expected = 0.0;
+  int inside_filter = 0, inside_scaled = 0, counted = 0;
+  const int draws = 20000;
+  for (int k = 0; k < draws; ++k) {
+    Track t = lc.prior;
+    t.corrections = corrections;
+    t.expected_corrections = expected;
+    const Vec5 truth = lc.draw_and_update(t, 0.25, rng, n01, p);
+    corrections = t.corrections;
+    expected = t.expected_corrections;
+    if (k < 500) continue;  // the sums settle
+    const Eigen::Vector2d e = (truth - t.x).segment<2>(2);
+    const Eigen::Matrix2d cov = t.P.block<2, 2>(2, 2);
+    const double nees = e.dot(cov.inverse() * e);
+    ++counted;
+    inside_filter += nees <= 5.991464547107979 ? 1 : 0;
+    inside_scaled += nees / t.covariance_scale(p) <= 5.991464547107979 ? 1 : 0;
+  }
+  EXPECT_NEAR(corrections / expected, 0.25, 0.05);
+  EXPECT_GT(static_cast<double>(inside_filter) / counted, 0.999);
+  EXPECT_NEAR(static_cast<double>(inside_scaled) / counted, 0.95, 0.01);
 }
 
 // ---- The box: anchoring and view cuts -----------------------------------------------------

@@ -55,9 +55,8 @@ void predict(Track& t, double dt, const TrackerParams::Motion& p) {
 void adapt_noise(Track& t, double correction, double expected, const TrackerParams& p) {
   const TrackerParams::Motion& pm = p.motion;
   if (pm.min_noise_scale >= 1.0 || !(expected > 1e-9) || !std::isfinite(correction)) return;
-  // Walkers (gait), objects at a walker's pace (walkers side by side make one box) and turning
-  // tracks keep the full noise: what they do next is what the full noise is for.
-  if (t.small(p) || t.velocity().norm() <= p.small.walker_max_speed_mps || std::abs(t.yaw_rate()) > p.turning.min_turn_rate_rps) {
+  // What unsteady tracks do next is what the full noise is for.
+  if (t.unsteady(p)) {
     t.noise_scale = 1.0;
     return;
   }
@@ -66,15 +65,25 @@ void adapt_noise(Track& t, double correction, double expected, const TrackerPara
   t.noise_scale = std::clamp(t.noise_scale * (1.0 + gain * (r - 1.0)), pm.min_noise_scale, 1.0);
 }
 
+void follow_corrections(Track& t, double correction, double expected, const TrackerParams::Calibration& p) {
+  if (!std::isfinite(correction) || !std::isfinite(expected) || !(expected > 0.0)) return;
+  t.corrections = p.memory * t.corrections + correction;
+  t.expected_corrections = p.memory * t.expected_corrections + expected;
+}
+
 void information_update(Track& t, const Mat5& info, const Vec5& grad, const TrackerParams& p) {
   const Mat5 P_inv = t.P.inverse();
   const Mat5 P_new = (P_inv + info).inverse();
   const Vec5 dx = P_new * grad;
   t.x += dx;
   t.x(4) = std::clamp(t.x(4), -p.motion.max_yaw_rate_rps, p.motion.max_yaw_rate_rps);
-  // For a consistent filter E[dx^T P^-1 dx] = tr(P^-1 (P - P_new)) = 5 - tr(P^-1 P_new). Not
-  // computed with the fixed noises (the default), on every update of every track.
-  if (p.motion.min_noise_scale < 1.0) adapt_noise(t, dx.dot(P_inv * dx), 5.0 - (P_inv * P_new).trace(), p);
+  // For a consistent filter E[dx^T P^-1 dx] = tr(P^-1 (P - P_new)) = 5 - tr(P^-1 P_new).
+  if (p.motion.min_noise_scale < 1.0 || p.calibration.enabled) {
+    const double correction = dx.dot(P_inv * dx);
+    const double expected = 5.0 - (P_inv * P_new).trace();
+    if (p.calibration.enabled) follow_corrections(t, correction, expected, p.calibration);
+    if (p.motion.min_noise_scale < 1.0) adapt_noise(t, correction, expected, p);
+  }
   t.P = 0.5 * (P_new + P_new.transpose());
 }
 

@@ -18,9 +18,15 @@ void predict(Track& t, double dt, const TrackerParams::Motion& p);
 /// filter expects of it (`expected`); back to 1 for a small, slow or turning track.
 void adapt_noise(Track& t, double correction, double expected, const TrackerParams& p);
 
+/// Adds an update's correction dx^T P^-1 dx and what a consistent filter expects of it to the
+/// track's sums (TrackerParams::Calibration); a correction or an expectation that is not finite
+/// and positive is left out.
+void follow_corrections(Track& t, double correction, double expected, const TrackerParams::Calibration& p);
+
 /// Information-form update: with the measurements' information and gradient at the current
 /// state, x += (P^-1 + info)^-1 grad, P = (P^-1 + info)^-1; the yaw rate stays within bounds;
-/// then the noise scale follows the correction (adapt_noise).
+/// then the track's sums follow the correction (follow_corrections) and so does its noise
+/// scale (adapt_noise).
 void information_update(Track& t, const Mat5& info, const Vec5& grad, const TrackerParams& p);
 
 /// The Doppler row's Jacobian with respect to the state at x.

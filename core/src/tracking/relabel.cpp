@@ -45,7 +45,10 @@ void report_track(const Frame& frame, const Track& tr, const Group& g, const Mot
   Eigen::Matrix<double, 2, 3> J;
   J << 1.0, 0.0, -d.y(), 0.0, 1.0, d.x();
   Eigen::Vector2d vel = tr.velocity();
+  // The filter's covariance, matched to the track's updates (TrackerParams::Calibration).
+  const double c = tr.covariance_scale(p);
   Eigen::Matrix2d cov = tr.P.block<2, 2>(2, 2);
+  Eigen::Matrix2d left_in = Eigen::Matrix2d::Zero();  // the yaw rate left in the velocity, (w - taken)^2 s s^T
   if (!tr.turning && tr.small(p)) {
     ce.yaw_rate_rps = 0.0;
   } else if (!tr.turning) {
@@ -63,9 +66,13 @@ void report_track(const Frame& frame, const Track& tr, const Group& g, const Mot
     const double w2 = w * w + k * k * tr.P(4, 4);
     const double taken = tr.axis_seen && w2 > 0.0 ? w * w * w / w2 : 0.0;
     vel -= taken * s;
-    cov = J * tr.P.block<3, 3>(2, 2) * J.transpose() + ((w - taken) * (w - taken) + tr.P(4, 4)) * s * s.transpose();
+    cov = J * tr.P.block<3, 3>(2, 2) * J.transpose() + tr.P(4, 4) * s * s.transpose();
+    left_in = (w - taken) * (w - taken) * s * s.transpose();
     ce.yaw_rate_rps = taken;
   }
+  // The filter's share is scaled as its updates say; the yaw rate left in is not the filter's
+  // uncertainty but the report's own choice, and stays as it is.
+  cov = c * cov + left_in;
   v.velocity_mps = Eigen::Vector3d::Zero();
   v.velocity_mps.head<2>() = Rt * vel;
   v.covariance = Eigen::Matrix3d::Zero();

@@ -87,6 +87,28 @@ struct TrackerParams {
     double noise_gain_down = 0.1;
   } motion;
 
+  /// The reported covariance matched to the track's own updates (docs/METHODS.md, "A
+  /// covariance that follows the track's updates"). The noises of `motion` and `measurement`
+  /// are those of a manoeuvring object seen by a noisy sensor; a vehicle driving steadily under
+  /// a good sensor is corrected by its updates far less than its covariance expects, and the
+  /// covariance it reports is that much too wide. Each update's correction dx is scored against
+  /// what a consistent filter expects of it, E[dx^T P^-1 dx] = 5 - tr(P^-1 P_updated), and the
+  /// track keeps both sums, each previous one weighted by `memory` per update. Scaling every
+  /// noise of a filter (process, measurement and initial) by c leaves its gain and its estimate
+  /// as they are and scales its covariance by c; the corrections, c times what the filter
+  /// expects, say which c. The reported covariance from the filter's (its yaw rate's share
+  /// included; not the yaw rate the report leaves in the velocity) is multiplied by
+  /// (corrections + prior_dof) / (expected + prior_dof), within [min_scale, 1]: a track with
+  /// few updates reports the filter's covariance. Tracks whose next motion their past updates
+  /// do not tell (Track::unsteady: small objects, objects at a walker's pace, turning ones)
+  /// report the filter's covariance. Estimates are not changed, only the covariance reported.
+  struct Calibration {
+    bool enabled = true;
+    double memory = 0.9;     ///< weight of the sums so far at each update, in [0, 1)
+    double prior_dof = 1.0;  ///< the filter's own covariance, as this many expected degrees of freedom
+    double min_scale = 0.05;
+  } calibration;
+
   /// The outline's axis as a measurement of a vehicle's heading: a vehicle drives along its body
   /// axis, so the velocity across the axis of its outline (the long side of the rectangle
   /// whose edges the footprint's near side lies on) is zero. One scan's Doppler fixes velocity and yaw rate only along a
@@ -278,6 +300,10 @@ struct Track {
   bool axis_seen = false;
   /// Scale of the motion noise variances (TrackerParams::Motion::min_noise_scale).
   double noise_scale = 1.0;
+  /// The updates' corrections dx^T P^-1 dx and what a consistent filter expects of them,
+  /// summed with TrackerParams::Calibration::memory.
+  double corrections = 0.0;
+  double expected_corrections = 0.0;
 
   Eigen::Vector2d centre() const { return x.head<2>(); }
   Eigen::Vector2d velocity() const { return x.segment<2>(2); }
@@ -286,6 +312,15 @@ struct Track {
   bool small(const TrackerParams& p) const {
     return walker || std::max(length_m, width_m) < p.small.small_object_m;
   }
+  /// Its next motion is not what its past updates say: a small object (a walker's gait), one at
+  /// a walker's pace (walkers side by side make one box) or a turning one (|yaw rate| above
+  /// turning.min_turn_rate_rps). Keeps the full noise (Motion::min_noise_scale) and reports the
+  /// filter's covariance (Calibration).
+  bool unsteady(const TrackerParams& p) const {
+    return small(p) || velocity().norm() <= p.small.walker_max_speed_mps || std::abs(yaw_rate()) > p.turning.min_turn_rate_rps;
+  }
+  /// The factor on the filter's covariance it reports (TrackerParams::Calibration).
+  double covariance_scale(const TrackerParams& p) const;
   /// At least vehicle_length_m long: see TrackerParams::vehicle_length_m.
   bool vehicle(const TrackerParams& p) const { return length_m >= p.association.vehicle_length_m; }
   /// Confirmed, recently seen and moving: its pixels stay "moving" inside the blind band.
