@@ -77,6 +77,7 @@ void TrackerParams::validate() const {
   ca.non_negative("memory", calibration.memory);
   FMCW_CHECK_ARG(calibration.memory < 1.0, "tracking.calibration.memory must be < 1, got ", calibration.memory);
   ca.positive("prior_dof", calibration.prior_dof);
+  FMCW_CHECK_ARG(std::isfinite(calibration.prior_dof), "tracking.calibration.prior_dof must be finite, got ", calibration.prior_dof);
   ca.positive("min_scale", calibration.min_scale);
   FMCW_CHECK_ARG(calibration.min_scale <= 1.0, "tracking.calibration.min_scale must be <= 1, got ", calibration.min_scale);
   mo.non_negative("noise_gain_up", motion.noise_gain_up);

@@ -721,6 +721,8 @@ TEST(ObjectTracker, RejectsBadParametersNamingTheField) {
       {[](TrackerParams& p) { p.calibration.memory = 1.0; }, "tracking.calibration.memory must be < 1, got 1"},
       {[](TrackerParams& p) { p.calibration.memory = -0.1; }, "tracking.calibration.memory must be >= 0, got -0.1"},
       {[](TrackerParams& p) { p.calibration.prior_dof = 0.0; }, "tracking.calibration.prior_dof must be > 0, got 0"},
+      {[](TrackerParams& p) { p.calibration.prior_dof = std::numeric_limits<double>::infinity(); },
+       "tracking.calibration.prior_dof must be finite, got inf"},
       {[](TrackerParams& p) { p.calibration.min_scale = 0.0; }, "tracking.calibration.min_scale must be > 0, got 0"},
       {[](TrackerParams& p) { p.calibration.min_scale = 2.0; }, "tracking.calibration.min_scale must be <= 1, got 2"},
   };
@@ -872,10 +874,11 @@ std::vector<Reported> reported(MotionPipeline pipeline, int frames, const std::f
 }
 
 // The tracked pipeline with the motion noise matched to the innovations (down to 0.03 of it) or
-// fixed (the default).
+// fixed (the default), reporting the filter's own covariance (TrackerParams::Calibration off).
 MotionPipeline noise_pipeline(bool adaptive) {
   MotionPipelineParams params = MotionPipelineParams::preset("tracked");
   if (adaptive) params.tracking.motion.min_noise_scale = 0.03;
+  params.tracking.calibration.enabled = false;  // the filter's own covariance, in both
   return MotionPipeline(params);
 }
 

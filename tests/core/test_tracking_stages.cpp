@@ -199,7 +199,9 @@ TEST(TrackingCtrv, TheCovarianceScaleFollowsTheCorrectionsWithinItsBounds) {
   EXPECT_DOUBLE_EQ(t.corrections, 0.9 * 0.5 + 0.25);
   EXPECT_DOUBLE_EQ(t.expected_corrections, 0.9 * 2.0 + 1.0);
   EXPECT_DOUBLE_EQ(t.covariance_scale(p), (0.7 + 1.0) / (2.8 + 1.0));
-  // A correction or an expectation that is not finite and positive says nothing.
+  // A correction that is negative (rounding) or not finite, or an expectation that is not finite
+  // and positive, says nothing.
+  follow_corrections(t, -1e-17, 2.0, p.calibration);
   follow_corrections(t, std::numeric_limits<double>::quiet_NaN(), 2.0, p.calibration);
   follow_corrections(t, 1.0, 0.0, p.calibration);
   follow_corrections(t, 1.0, std::numeric_limits<double>::infinity(), p.calibration);

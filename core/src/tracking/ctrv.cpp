@@ -66,7 +66,8 @@ void adapt_noise(Track& t, double correction, double expected, const TrackerPara
 }
 
 void follow_corrections(Track& t, double correction, double expected, const TrackerParams::Calibration& p) {
-  if (!std::isfinite(correction) || !std::isfinite(expected) || !(expected > 0.0)) return;
+  // dx^T P^-1 dx >= 0 but for rounding; a negative one, or one not finite, says nothing.
+  if (!(correction >= 0.0) || !std::isfinite(correction) || !std::isfinite(expected) || !(expected > 0.0)) return;
   t.corrections = p.memory * t.corrections + correction;
   t.expected_corrections = p.memory * t.expected_corrections + expected;
 }

@@ -94,9 +94,10 @@ struct TrackerParams {
   /// covariance it reports is that much too wide. Each update's correction dx is scored against
   /// what a consistent filter expects of it, E[dx^T P^-1 dx] = 5 - tr(P^-1 P_updated), and the
   /// track keeps both sums, each previous one weighted by `memory` per update. Scaling every
-  /// noise of a filter (process, measurement and initial) by c leaves its gain and its estimate
-  /// as they are and scales its covariance by c; the corrections, c times what the filter
-  /// expects, say which c. The reported covariance from the filter's (its yaw rate's share
+  /// noise of a linear filter (process, measurement and initial) by c leaves its gain and its
+  /// estimate as they are and scales its covariance by c; the corrections, c times what the
+  /// filter expects, say which c (for this filter, linearised, with Huber weights and outlier
+  /// gates, approximately). The reported covariance from the filter's (its yaw rate's share
   /// included; not the yaw rate the report leaves in the velocity) is multiplied by
   /// (corrections + prior_dof) / (expected + prior_dof), within [min_scale, 1]: a track with
   /// few updates reports the filter's covariance. Tracks whose next motion their past updates
