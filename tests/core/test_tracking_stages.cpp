@@ -225,6 +225,10 @@ TEST(TrackingCtrv, TheCovarianceScaleFollowsTheCorrectionsWithinItsBounds) {
   TrackerParams off;
   off.calibration.enabled = false;
   EXPECT_EQ(t.covariance_scale(off), 1.0);
+  Track unfed = car_track(10.0);
+  follow_corrections(unfed, 0.5, 2.0, off.calibration);
+  EXPECT_EQ(unfed.corrections, 0.0);
+  EXPECT_EQ(unfed.expected_corrections, 0.0);
 }
 
 TEST(TrackingCtrv, AFilterTooCautiousReportsACovarianceItsErrorsFill) {

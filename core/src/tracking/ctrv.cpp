@@ -66,6 +66,7 @@ void adapt_noise(Track& t, double correction, double expected, const TrackerPara
 }
 
 void follow_corrections(Track& t, double correction, double expected, const TrackerParams::Calibration& p) {
+  if (!p.enabled) return;
   // dx^T P^-1 dx >= 0 but for rounding; a negative one, or one not finite, says nothing.
   if (!(correction >= 0.0) || !std::isfinite(correction) || !std::isfinite(expected) || !(expected > 0.0)) return;
   t.corrections = p.memory * t.corrections + correction;
@@ -78,13 +79,12 @@ void information_update(Track& t, const Mat5& info, const Vec5& grad, const Trac
   const Vec5 dx = P_new * grad;
   t.x += dx;
   t.x(4) = std::clamp(t.x(4), -p.motion.max_yaw_rate_rps, p.motion.max_yaw_rate_rps);
-  // For a consistent filter E[dx^T P^-1 dx] = tr(P^-1 (P - P_new)) = 5 - tr(P^-1 P_new).
-  if (p.motion.min_noise_scale < 1.0 || p.calibration.enabled) {
-    const double correction = dx.dot(P_inv * dx);
-    const double expected = 5.0 - (P_inv * P_new).trace();
-    if (p.calibration.enabled) follow_corrections(t, correction, expected, p.calibration);
-    if (p.motion.min_noise_scale < 1.0) adapt_noise(t, correction, expected, p);
-  }
+  // For a consistent filter E[dx^T P^-1 dx] = tr(P^-1 (P - P_new)) = 5 - tr(P^-1 P_new); each
+  // of the two users below returns at once when it is off.
+  const double correction = dx.dot(P_inv * dx);
+  const double expected = 5.0 - (P_inv * P_new).trace();
+  follow_corrections(t, correction, expected, p.calibration);
+  adapt_noise(t, correction, expected, p);
   t.P = 0.5 * (P_new + P_new.transpose());
 }
 

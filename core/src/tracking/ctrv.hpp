@@ -19,8 +19,8 @@ void predict(Track& t, double dt, const TrackerParams::Motion& p);
 void adapt_noise(Track& t, double correction, double expected, const TrackerParams& p);
 
 /// Adds an update's correction dx^T P^-1 dx and what a consistent filter expects of it to the
-/// track's sums (TrackerParams::Calibration); a correction that is negative or not finite, or an
-/// expectation that is not finite and positive, is left out.
+/// track's sums (TrackerParams::Calibration; nothing when it is off); a correction that is
+/// negative or not finite, or an expectation that is not finite and positive, is left out.
 void follow_corrections(Track& t, double correction, double expected, const TrackerParams::Calibration& p);
 
 /// Information-form update: with the measurements' information and gradient at the current
