@@ -775,30 +775,32 @@ TEST(ObjectTracker, TheCovarianceOfAYoungTrackCoversTheTurnItHasNotResolved) {
   EXPECT_GE(large_errors, 1);  // the young track is off before it resolves the turn
 }
 
-TEST(ObjectTracker, APieceBesideACarWithADopplerOfItsOwnIsPartOfTheCar) {
-  // A car 20 m ahead driving away at 8 m/s and, just behind its rear corner, a small
-  // piece that moves at 6 m/s (a wheel's Doppler differs from its body's): its own cluster, too
-  // unlike the car to join its track. It starts no track of its own and takes the car's label.
-  const auto scene = [](double t) {
-    SyntheticBox body;
-    body.center_m = Eigen::Vector3d(22.0 + 8.0 * t, 0.0, 0.8);
-    body.half_extent_m = Eigen::Vector3d(2.2, 0.9, 0.7);
-    body.velocity_mps = Eigen::Vector3d(8.0, 0.0, 0.0);
-    SyntheticBox piece;
-    piece.center_m = Eigen::Vector3d(19.2 + 8.0 * t, 1.0, 0.3);
-    piece.half_extent_m = Eigen::Vector3d(0.1, 0.12, 0.2);
-    piece.velocity_mps = Eigen::Vector3d(6.0, 0.0, 0.0);
-    return std::vector<SyntheticBox>{body, piece};
-  };
+// A box with the given centre, half extents and velocity (its Doppler; it may differ from how the
+// centre moves, as a wheel's or a swinging limb's does from its body's).
+SyntheticBox moving_box(const Eigen::Vector3d& centre, const Eigen::Vector3d& half, const Eigen::Vector3d& velocity) {
+  SyntheticBox b;
+  b.center_m = centre;
+  b.half_extent_m = half;
+  b.velocity_mps = velocity;
+  return b;
+}
+
+// A body (instance 1) and a piece of it with a Doppler of its own (instance 2), through the
+// tracked pipeline and a control with other parameters, frame by frame (frame k at k * kDt).
+// Of the frames in which both pipelines label the piece: in how many it took the body's label,
+// in how many the control kept it apart, and the tracks it went under.
+struct PieceFrames {
+  int frames = 0;
+  int joined = 0;
+  int apart = 0;  ///< piece_frames: the control's frames with the piece apart
+  std::set<std::int32_t> tracks;
+};
+PieceFrames piece_frames(const std::function<std::vector<SyntheticBox>(double)>& scene, int frames,
+                         const MotionPipelineParams& control) {
   MotionPipeline tracked(MotionPipelineParams::preset("tracked"));
-  TrackerParams apart_params;
-  apart_params.fragments.max_pixels = 0;  // control: pieces are not absorbed
-  MotionPipelineParams apart_pipeline = MotionPipelineParams::preset("tracked");
-  apart_pipeline.tracking = apart_params;
-  MotionPipeline apart(apart_pipeline);
-  int piece_frames = 0, piece_joined = 0, piece_apart = 0;
-  std::set<std::int32_t> tracks_on_piece;
-  for (int k = 0; k < 12; ++k) {
+  MotionPipeline apart(control);
+  PieceFrames n;
+  for (int k = 0; k < frames; ++k) {
     const Frame f = render_actors(k, scene(k * kDt));
     const MotionEstimate e = tracked.process(f.scan, static_cast<std::uint64_t>(k));
     const MotionEstimate a = apart.process(f.scan, static_cast<std::uint64_t>(k));
@@ -806,17 +808,55 @@ TEST(ObjectTracker, APieceBesideACarWithADopplerOfItsOwnIsPartOfTheCar) {
     const ClusterEstimate* piece = actor_cluster(f, e, 2);
     const ClusterEstimate* piece_a = actor_cluster(f, a, 2);
     const ClusterEstimate* body_a = actor_cluster(f, a, 1);
-    ASSERT_NE(body, nullptr) << "frame " << k;
-    if (piece == nullptr || piece_a == nullptr) continue;
-    ++piece_frames;
-    piece_joined += piece->id == body->id ? 1 : 0;
-    piece_apart += body_a != nullptr && piece_a->id != body_a->id ? 1 : 0;
-    tracks_on_piece.insert(piece->track_id);
+    EXPECT_NE(body, nullptr) << "frame " << k;
+    if (body == nullptr || piece == nullptr || piece_a == nullptr) continue;
+    ++n.frames;
+    n.joined += piece->id == body->id ? 1 : 0;
+    n.apart += body_a != nullptr && piece_a->id != body_a->id ? 1 : 0;
+    n.tracks.insert(piece->track_id);
   }
-  ASSERT_GE(piece_frames, 8);
-  EXPECT_GE(2 * piece_apart, piece_frames);  // control: mostly a cluster (and a track) of its own
-  EXPECT_EQ(piece_joined, piece_frames);  // with it, under the car's label every frame
-  EXPECT_EQ(tracks_on_piece.size(), 1u);  // one track: the car's
+  return n;
+}
+
+TEST(ObjectTracker, APieceBesideACarWithADopplerOfItsOwnIsPartOfTheCar) {
+  // A car 20 m ahead driving away at 8 m/s and, just behind its rear corner, a small
+  // piece that moves at 6 m/s (a wheel's Doppler differs from its body's): its own cluster, too
+  // unlike the car to join its track. It starts no track of its own and takes the car's label.
+  const auto scene = [](double t) {
+    return std::vector<SyntheticBox>{
+        moving_box({22.0 + 8.0 * t, 0.0, 0.8}, {2.2, 0.9, 0.7}, {8.0, 0.0, 0.0}),      // the car
+        moving_box({19.2 + 8.0 * t, 1.0, 0.3}, {0.1, 0.12, 0.2}, {6.0, 0.0, 0.0})};   // the piece
+  };
+  MotionPipelineParams apart = MotionPipelineParams::preset("tracked");
+  apart.tracking = TrackerParams{};
+  apart.tracking.fragments.max_pixels = 0;  // control: pieces are not absorbed
+  const PieceFrames n = piece_frames(scene, 12, apart);
+  ASSERT_GE(n.frames, 8);
+  EXPECT_GE(2 * n.apart, n.frames);  // control: mostly a cluster (and a track) of its own
+  EXPECT_EQ(n.joined, n.frames);     // with it, under the car's label every frame
+  EXPECT_EQ(n.tracks.size(), 1u);    // one track: the car's
+}
+
+TEST(ObjectTracker, ALimbSwungOffAWalkerStartsNoTrackOfItsOwn) {
+  // A walker 8 m ahead walking away at 1.4 m/s and, at its side, an arm swinging forward at
+  // 2.8 m/s: a cluster of its own (1.4 m/s off the body's Doppler), inside the walker's box, with
+  // a thirtieth of its pixels. Walkers hold no pieces by the image (walkers side by side are as
+  // near each other as a body and its limb), so it is the confirmed walker's box and its ten
+  // times the pixels (fragments.small_host_ratio) that take it under the walker's label. The arm
+  // swings out once the walker is confirmed (frame 5 on). Without the rule at birth, only the
+  // rule that ends a track on a walker's limb, the arm would start a track every other frame.
+  const auto scene = [](double t) {
+    std::vector<SyntheticBox> actors{moving_box({8.0 + 1.4 * t, 1.0, 0.85}, {0.15, 0.25, 0.85}, {1.4, 0.0, 0.0})};
+    if (t > 0.45) actors.push_back(moving_box({8.0 + 1.4 * t, 1.42, 1.0}, {0.04, 0.04, 0.12}, {2.8, 0.0, 0.0}));
+    return actors;
+  };
+  MotionPipelineParams apart = MotionPipelineParams::preset("tracked");
+  apart.tracking.fragments.small_host_ratio = 0.0;  // control: no walker hosts a limb
+  const PieceFrames n = piece_frames(scene, 16, apart);
+  ASSERT_GE(n.frames, 8);
+  EXPECT_GE(2 * n.apart, n.frames);  // control: mostly a cluster (and a track) of its own
+  EXPECT_EQ(n.joined, n.frames);     // with the rule, under the walker's label every frame
+  EXPECT_EQ(n.tracks.size(), 1u);    // one track: the walker's
 }
 
 // A car 10.25 m to the left of the standing rig drives straight towards y = 0 at 11 m/s (the
@@ -1074,11 +1114,6 @@ TEST(ObjectTracker, FewerPixelsKeepATrackFarAway) {
 // cluster of their own (a part with a Doppler of its own, as a wheel or a bumper shows: 10-22
 // pixels beside 100-550), handed to a tracker. Counted: frames, frames in which the piece
 // carries the car's label, and the tracks seen on the piece.
-struct PieceFrames {
-  int frames = 0;
-  int joined = 0;
-  std::set<std::int32_t> tracks;
-};
 PieceFrames piece_of_a_car_entering_the_view(double walker_max_speed_mps) {
   MotionPipeline robust(MotionPipelineParams::preset("robust"));
   TrackerParams tp;

@@ -232,18 +232,10 @@ namespace {
 int holding_box(const Eigen::Vector2d& q, const std::vector<Track>& tracks, const std::vector<Box>& boxes,
                 const TrackerParams& p, bool vehicles_only, std::size_t skip = std::numeric_limits<std::size_t>::max(),
                 double extra_margin_m = 0.0) {
-  int holder = -1;
-  double best = std::numeric_limits<double>::infinity();
-  for (std::size_t t = 0; t < boxes.size(); ++t) {  // tracks without a box yet are not holders
-    if (t == skip || (vehicles_only && !(tracks[t].confirmed && tracks[t].vehicle(p)))) continue;
-    if (!boxes[t].contains(q, p.claims.claim_margin_m + extra_margin_m)) continue;
-    const double d = boxes[t].distance(q) + 1e-3 * (q - boxes[t].centre).norm();
-    if (d < best) {
-      best = d;
-      holder = static_cast<int>(t);
-    }
-  }
-  return holder;
+  // Tracks without a box yet are not holders.
+  return nearest_holding_box(q, boxes, p.claims.claim_margin_m + extra_margin_m, [&](std::size_t t) {
+    return t != skip && (!vehicles_only || (tracks[t].confirmed && tracks[t].vehicle(p)));
+  });
 }
 
 // The host moves faster than a walker (at a walker's pace a long box may be walkers side by

@@ -98,6 +98,17 @@ namespace {
 bool holds_pieces(const Track& t, const TrackerParams& p) {
   return !t.small(p) || (!t.walker && t.velocity().norm() > p.small.walker_max_speed_mps);
 }
+
+// A confirmed walker, seen this frame, whose update found at least fragments.small_host_ratio
+// times n pixels, and whose box holds q: a limb of it swung off the body. -1: none.
+int holding_walker(const Eigen::Vector2d& q, std::size_t n, const std::vector<Track>& tracks,
+                   const std::vector<Box>& boxes, const std::vector<Group>& groups, const TrackerParams& p) {
+  const double least = p.fragments.small_host_ratio * static_cast<double>(n);
+  return nearest_holding_box(q, boxes, p.claims.claim_margin_m, [&](std::size_t t) {
+    return p.fragments.small_host_ratio > 0.0 && tracks[t].confirmed && !holds_pieces(tracks[t], p) &&
+           static_cast<double>(groups[t].found.size()) >= least;
+  });
+}
 }  // namespace
 
 void birth_tracks(const Frame& frame, const ViewEdges& edges, const MotionEstimate& est,
@@ -125,7 +136,11 @@ void birth_tracks(const Frame& frame, const ViewEdges& edges, const MotionEstima
   for (const std::size_t c : order) {
     const int n = static_cast<int>(cluster_pixels[c].size());
     if (n <= p.fragments.max_pixels) {
-      const int host = footprints.host(frame, cluster_pixels[c], p);
+      int host = footprints.host(frame, cluster_pixels[c], p);
+      if (host < 0) {
+        host = holding_walker(frame.world_xy(est.clusters[c].centroid_m), cluster_pixels[c].size(), tracks,
+                              measured_boxes, groups, p);
+      }
       if (host >= 0) {
         absorb(c, host);
         continue;

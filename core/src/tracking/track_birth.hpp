@@ -19,7 +19,9 @@ Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, co
 /// The births of a frame, from the clusters no track took, the largest first (a body before its
 /// wheels). A cluster of at most fragments.max_pixels pixels beside a larger tracked group's
 /// pixels in the image (Footprints::host) is a piece of that object: it goes under its label,
-/// unmeasured, and so does one inside a confirmed vehicle's measured box (inside_vehicle). The
+/// unmeasured, and so does one that small inside a confirmed walker's box whose update found
+/// fragments.small_host_ratio times its pixels (a limb), and one inside a confirmed vehicle's
+/// measured box (inside_vehicle). The
 /// others with min_cluster_pixels and a valid single-scan velocity start tracks (appended to
 /// tracks and groups, ids from next_id).
 void birth_tracks(const Frame& frame, const ViewEdges& edges, const MotionEstimate& est,

@@ -4,6 +4,8 @@
 // extents, heights and the centre, anchored at the visible end when less than the whole length
 // is seen.
 
+#include <cmath>
+#include <limits>
 #include <vector>
 
 #include "frame.hpp"
@@ -27,6 +29,23 @@ struct Box {
 
 /// The track's predicted box (at least 0.4 m on each side).
 Box box_of(const Track& t);
+
+/// Of the boxes t that accept(t) takes and that, grown by grow_m, hold q: the nearest by box
+/// distance, the distance to its centre breaking ties (a point inside two boxes). -1: none.
+template <class Accept>
+int nearest_holding_box(const Eigen::Vector2d& q, const std::vector<Box>& boxes, double grow_m, Accept accept) {
+  int holder = -1;
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t t = 0; t < boxes.size(); ++t) {
+    if (!accept(t) || !boxes[t].contains(q, grow_m)) continue;
+    const double d = boxes[t].distance(q) + 1e-3 * (q - boxes[t].centre).norm();
+    if (d < best) {
+      best = d;
+      holder = static_cast<int>(t);
+    }
+  }
+  return holder;
+}
 
 /// Where the view cuts an outline: at an edge pixel (the top and bottom rows and each head's
 /// first and last column), the direction away from the view, in the ground plane; and where

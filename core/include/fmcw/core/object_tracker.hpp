@@ -199,7 +199,12 @@ struct TrackerParams {
     /// A track whose centre lies in the box of a confirmed track that is no vehicle (a walker),
     /// as old, whose last update found small_host_ratio times its pixels, follows a part of it
     /// (a limb split off when the walker was first seen in two halves) and ends. Stricter than
-    /// host_ratio: a walker half hidden behind another shows a good share of its pixels. 0: never.
+    /// host_ratio: a walker half hidden behind another shows a good share of its pixels. So a
+    /// cluster of at most max_pixels that no track took, whose centroid lies in the box (grown by
+    /// claims.claim_margin_m) of a confirmed walker whose update this frame found small_host_ratio
+    /// times its pixels, is a limb swung off it (the slow knee or elbow between them left out of
+    /// the moving pixels): it goes under the walker's label, unmeasured, and starts no track.
+    /// 0: never.
     double small_host_ratio = 10.0;
     /// A track whose centre lies up to same_motion_margin_m beyond the box of a confirmed vehicle
     /// faster than small.walker_max_speed_mps (past claims.claim_margin_m), and whose velocity
