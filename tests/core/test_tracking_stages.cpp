@@ -590,6 +590,49 @@ TEST(TrackingAssociation, AClusterOfTwoMotionsIsSplitByTheDoppler) {
   EXPECT_EQ(doppler_split({15.0, 0.0}, 3.0, est, {}, 0.0, 8).size(), 1u);
 }
 
+// One cluster of 12 pixels about 110 m ahead and two confirmed tracks seen last frame with 6
+// pixels each, 1.5 m by 1.5 m, moving along x at 5 m/s: the first centred at (110, 0), the
+// second `apart_m` further along x; 6 of the pixels at each track's centre. Returns the parts
+// split_shared_clusters makes.
+std::size_t parts_of_a_far_cluster(double apart_m) {
+  HandScan h;
+  MotionEstimate est;
+  est.labels.assign(h.scan.size(), 0);
+  ClusterEstimate ce;
+  ce.id = 1;
+  for (int n = 0; n < 12; ++n) {
+    const Eigen::Vector3d q(110.0 + (n < 6 ? 0.0 : apart_m), -0.25 + 0.1 * (n % 6), 0.5);
+    h.set(n < 6 ? 1 : 3, 5 + n, q, 5.0 * q.normalized().x());
+    est.labels[h.scan.index(n < 6 ? 1 : 3, 5 + n)] = 1;
+    ce.centroid_m += q / 12.0;
+  }
+  ce.num_pixels = 12;
+  ce.velocity.valid = true;
+  est.clusters.push_back(ce);
+  const ScanBeams beams(h.scan);
+  const Frame frame = standing_frame(h.scan, beams);
+  std::vector<Track> tracks(2);
+  for (std::size_t t = 0; t < 2; ++t) {
+    tracks[t].x << 110.0 + (t == 0 ? 0.0 : apart_m), 0.0, 5.0, 0.0, 0.0;
+    tracks[t].length_m = tracks[t].width_m = 1.5;
+    tracks[t].confirmed = true;
+    tracks[t].hits = 10;
+    tracks[t].last_pixels = 6;
+  }
+  const std::vector<Box> boxes{box_of(tracks[0]), box_of(tracks[1])};
+  auto cluster_pixels = pixels_of_clusters(est);
+  split_shared_clusters(frame, est, cluster_pixels, tracks, boxes, TrackerParams{});
+  EXPECT_EQ(cluster_pixels.size(), est.clusters.size());
+  return est.clusters.size();
+}
+
+TEST(TrackingAssociation, AFarClusterIsSplitBetweenTwoTracksApartNotBetweenTwoOnOneObject) {
+  // 6 pixels each: under min_cluster_pixels (8), but as many as a track 110 m away needs (3).
+  EXPECT_EQ(parts_of_a_far_cluster(4.0), 2u);  // a car and a cyclist 4 m beyond it
+  // 0.8 m apart, each centre in the other's box: one far car seen as two pieces, left whole.
+  EXPECT_EQ(parts_of_a_far_cluster(0.8), 1u);
+}
+
 // Two confirmed tracks as old: the host, 10 m long at (20, 0) by default (a truck whose cab and
 // load were born apart in one frame), and the part's, 0.4 times as long, its centre at 0.3
 // times the host's length ahead and 0.05 times aside, inside the host's box; or, with `beside`,

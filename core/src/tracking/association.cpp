@@ -49,9 +49,9 @@ bool reaches(const Box& b, const WorldPixels& w, const TrackerParams& p) {
 }
 
 // The pixels of a cluster a track must hold to keep its part of it: split_min_share of those it
-// had last frame, and at least min_cluster_pixels.
-double split_need(const Track& t, const TrackerParams& p) {
-  return std::max(static_cast<double>(p.association.min_cluster_pixels),
+// had last frame, and at least `least`.
+double split_need(const Track& t, const TrackerParams& p, int least) {
+  return std::max(static_cast<double>(least),
                   p.association.split_min_share * static_cast<double>(t.last_pixels));
 }
 
@@ -75,9 +75,19 @@ void assign_part(const Frame& frame, MotionEstimate& est, std::vector<std::vecto
   cluster_pixels[slot] = std::move(part);
 }
 
+// Whether track t's box (grown by claims.claim_margin_m) holds the centre of another track of
+// `near`, or another's holds t's.
+bool overlaps_another(std::size_t t, const std::vector<std::size_t>& near, const std::vector<Box>& boxes, const TrackerParams& p) {
+  const double grow = p.claims.claim_margin_m;
+  for (const std::size_t u : near) {
+    if (u != t && (boxes[u].contains(boxes[t].centre, grow) || boxes[t].contains(boxes[u].centre, grow))) return true;
+  }
+  return false;
+}
+
 // The tracks (of `near`) whose boxes hold a share of the cluster's pixels q: per pixel its
 // holder (-1: none), and the sharers.
-std::vector<std::size_t> sharers_of(const std::vector<Eigen::Vector2d>& q, const std::vector<std::size_t>& near,
+std::vector<std::size_t> sharers_of(const Frame& frame, const std::vector<Eigen::Vector2d>& q, const std::vector<std::size_t>& near,
                                     const std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p,
                                     std::vector<int>& holder) {
   holder.assign(q.size(), -1);
@@ -96,7 +106,15 @@ std::vector<std::size_t> sharers_of(const std::vector<Eigen::Vector2d>& q, const
   }
   std::vector<std::size_t> sharers;
   for (const std::size_t t : near) {
-    if (held[t] >= split_need(tracks[t], p)) sharers.push_back(t);
+    // At least as many pixels as a track at its range needs (min_pixels_at: a far cyclist shows
+    // 4-8 beside a car).
+    const double range = (tracks[t].centre() - frame.position).norm();
+    if (!(held[t] >= split_need(tracks[t], p, p.association.min_pixels_at(range)))) continue;
+    // A part that only a far track's smaller minimum keeps must lie apart from the others: two
+    // tracks each with its centre in the other's box are one far object seen twice (a car 110 m
+    // away first seen in two pieces), not two bodies.
+    if (held[t] < split_need(tracks[t], p, p.association.min_cluster_pixels) && overlaps_another(t, near, boxes, p)) continue;
+    sharers.push_back(t);
   }
   return sharers;
 }
@@ -140,7 +158,7 @@ void split_shared_clusters(const Frame& frame, MotionEstimate& est, std::vector<
   std::vector<int> holder;
   for (std::size_t c = 0; c < k0; ++c) {
     const std::vector<std::uint32_t>& px = cluster_pixels[c];
-    if (static_cast<int>(px.size()) < 2 * p.association.min_cluster_pixels) continue;
+    if (static_cast<int>(px.size()) < 2 * p.association.min_pixels_at(est.clusters[c].centroid_m.head<2>().norm())) continue;
     const WorldPixels w = world_pixels(frame, px);
     // Only boxes that reach the cluster's extent can hold its pixels.
     near.clear();
@@ -148,7 +166,7 @@ void split_shared_clusters(const Frame& frame, MotionEstimate& est, std::vector<
       if (reaches(boxes[t], w, p)) near.push_back(t);
     }
     if (near.size() < 2) continue;
-    const std::vector<std::size_t> sharers = sharers_of(w.q, near, tracks, boxes, p, holder);
+    const std::vector<std::size_t> sharers = sharers_of(frame, w.q, near, tracks, boxes, p, holder);
     if (sharers.size() < 2) continue;
     split_cluster(frame, est, cluster_pixels, c, w.q, holder, sharers, boxes);
   }
@@ -185,7 +203,7 @@ void split_by_doppler(const Frame& frame, MotionEstimate& est, std::vector<std::
                           boxes[t].contains(w.q[n], p.claims.claim_margin_m);
         (mine ? explained : rest).push_back(px[n]);
       }
-      if (static_cast<double>(explained.size()) < split_need(tr, p) || static_cast<int>(rest.size()) < pa.min_cluster_pixels) continue;
+      if (static_cast<double>(explained.size()) < split_need(tr, p, pa.min_cluster_pixels) || static_cast<int>(rest.size()) < pa.min_cluster_pixels) continue;
       if (best < 0 || explained.size() > best_explained.size()) {
         best = static_cast<int>(t);
         best_explained.swap(explained);

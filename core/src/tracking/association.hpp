@@ -17,7 +17,11 @@ std::vector<std::vector<std::uint32_t>> pixels_of_clusters(const MotionEstimate&
 /// image and in Doppler) is split between them when each one's predicted box holds a good share
 /// of the pixels it had last time: a pixel goes to the box that holds it (the nearest centre
 /// where boxes overlap), else to the nearest of those boxes. The first part keeps the label, the
-/// others get new ones; each part keeps the cluster's single-scan estimate.
+/// others get new ones; each part keeps the cluster's single-scan estimate. A good share is
+/// split_min_share, and at least as many pixels as association.min_pixels_at the track's range
+/// asks (a cyclist 60 m away shows 4-8 beside a car). A track that holds fewer than
+/// min_cluster_pixels keeps a part only if neither its centre lies in another sharer's box nor
+/// another's in its own (two such tracks are one far object seen twice).
 void split_shared_clusters(const Frame& frame, MotionEstimate& est, std::vector<std::vector<std::uint32_t>>& cluster_pixels,
                            const std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p);
 

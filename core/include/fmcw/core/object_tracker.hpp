@@ -174,8 +174,9 @@ struct TrackerParams {
     double vehicle_length_m = 3.0;
     int absorb_max_pixels = 60;  ///< size bound of such a wheel cluster [pixels]
     /// A cluster is split between two or more tracks when each one's predicted box holds at
-    /// least this share of the pixels that track had last frame (two cars nose to tail at one
-    /// speed make one cluster).
+    /// least this share of the pixels that track had last frame, and at least min_pixels_at its
+    /// range (two cars nose to tail at one speed make one cluster; so do a far car and a
+    /// cyclist beside it).
     double split_min_share = 0.5;
     /// A cluster that no one rigid motion explains (its single-scan fit leaves a residual RMS
     /// above this) is split by the Doppler where a track explains a part of it
