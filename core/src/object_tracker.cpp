@@ -123,6 +123,7 @@ void TrackerParams::validate() const {
   const FieldCheck l{"lifecycle"};
   l.at_least("confirm_hits", lifecycle.confirm_hits, 1);
   l.non_negative("max_misses", lifecycle.max_misses);
+  l.non_negative("reid_frames (0: never)", lifecycle.reid_frames);
   l.non_negative("carry_min_speed_mps", lifecycle.carry_min_speed_mps);
   l.at_least("release_slow_frames", lifecycle.release_slow_frames, 1);
   l.positive("max_gap_s", lifecycle.max_gap_s);
@@ -152,6 +153,7 @@ ObjectTracker::ObjectTracker(const TrackerParams& params) : params_(params) { pa
 
 void ObjectTracker::reset() {
   tracks_.clear();
+  lost_.clear();
   has_pose_ = false;
   yaw_ = 0.0;
   position_.setZero();
@@ -179,6 +181,7 @@ bool ObjectTracker::advance(const Scan& scan, const MotionEstimate& est) {
     position_ += tracking::rotation(yaw_ + 0.5 * w_mean * dt) * v_mean * dt;
     yaw_ += w_mean * dt;
     for (Track& t : tracks_) tracking::predict(t, dt, params_.motion);
+    for (Track& t : lost_) tracking::predict(t, dt, params_.motion);
   }
   has_pose_ = true;
   last_stamp_s_ = scan.stamp_s;
@@ -215,15 +218,29 @@ void ObjectTracker::update(const Scan& scan, const ScanBeams& beams, MotionEstim
     update_track_state(tracks_[t], groups[t], p);
   }
   // Birth: new tracks from the clusters no track took, unless they are pieces of a tracked object.
+  const std::size_t measured = tracks_.size();
   birth_tracks(frame, edges, est, cluster_pixels, p, assoc, tracks_, groups, next_id_);
+  // A track born where a lost one is predicted is that object again: it takes its id.
+  for (std::size_t t = measured; t < tracks_.size() && !lost_.empty(); ++t) {
+    const int l = lost_track_of(frame, tracks_[t], groups[t].found, lost_, p);
+    if (l < 0) continue;
+    tracks_[t].id = lost_[static_cast<std::size_t>(l)].id;
+    lost_.erase(lost_.begin() + l);
+  }
   // Grow into the blind band, then relabel the estimate by the tracks.
   const std::vector<std::int32_t> group_of_label = group_of_labels(groups, est.clusters.size());
   const auto grown_untracked = grow_into_band(frame, est, cluster_pixels, tracks_, group_of_label, p, groups);
   relabel_estimate(frame, tracks_, groups, group_of_label, grown_untracked, p, est);
   if (est.ego_standing && p.background.min_frames > 0) background_.add(scan);
-  // Prune the tracks missed too long.
-  tracks_.erase(std::remove_if(tracks_.begin(), tracks_.end(), [&](const Track& t) { return t.misses > p.lifecycle.max_misses; }),
-                tracks_.end());
+  // Prune the tracks missed too long; the confirmed ones are remembered for reid_frames more.
+  const int max_misses = p.lifecycle.max_misses;
+  for (Track& t : lost_) ++t.misses;
+  lost_.erase(std::remove_if(lost_.begin(), lost_.end(), [&](const Track& t) { return t.misses > max_misses + p.lifecycle.reid_frames; }),
+              lost_.end());
+  for (const Track& t : tracks_) {
+    if (t.misses > max_misses && t.confirmed && !t.merged && p.lifecycle.reid_frames > 0) lost_.push_back(t);
+  }
+  tracks_.erase(std::remove_if(tracks_.begin(), tracks_.end(), [&](const Track& t) { return t.misses > max_misses; }), tracks_.end());
 }
 
 }  // namespace fmcw::core

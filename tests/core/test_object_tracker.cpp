@@ -41,6 +41,16 @@ Frame render_actors(int k, const std::vector<SyntheticBox>& actors, double noise
   return f;
 }
 
+// A box with the given centre, half extents and velocity (its Doppler; it may differ from how the
+// centre moves, as a wheel's or a swinging limb's does from its body's).
+SyntheticBox moving_box(const Eigen::Vector3d& centre, const Eigen::Vector3d& half, const Eigen::Vector3d& velocity) {
+  SyntheticBox b;
+  b.center_m = centre;
+  b.half_extent_m = half;
+  b.velocity_mps = velocity;
+  return b;
+}
+
 // Frame k of a scene with one actor whose box the callback places at time t.
 Frame render_at(int k, const std::function<SyntheticBox(double)>& actor_at, double noise = 1.0) {
   return render_actors(k, {actor_at(k * kDt)}, noise);
@@ -359,6 +369,41 @@ void expect_kept_apart(const std::vector<TwoCars>& merged, const std::vector<Two
     }
     EXPECT_NE(merged[k].track[0], merged[k].track[1]) << "frame " << k + 10;
   }
+}
+
+// A walker 14-19 m ahead walking diagonally at 1.4 m/s ((1, 1) m/s) passes behind a pillar
+// 0.8 m wide 8 m from the rig, hidden for about a second (frames 24-36). Per frame: the walker's
+// track id (0: not labelled).
+std::vector<std::int32_t> walker_behind_a_pillar(const TrackerParams& tp) {
+  MotionPipelineParams params = MotionPipelineParams::preset("tracked");
+  params.tracking = tp;
+  MotionPipeline tracked(params);
+  std::vector<std::int32_t> ids;
+  for (int k = 0; k < 50; ++k) {
+    const double t = k * kDt;
+    const Frame f = render_actors(k, {moving_box({14.0 + t, -3.0 + t, 0.9}, {0.25, 0.25, 0.9}, {1.0, 1.0, 0.0}),
+                                      moving_box({8.0, 0.0, 1.5}, {0.2, 0.4, 1.5}, Eigen::Vector3d::Zero())});
+    const MotionEstimate e = tracked.process(f.scan, static_cast<std::uint64_t>(k));
+    const ClusterEstimate* c = actor_cluster(f, e, 1);
+    ids.push_back(c == nullptr ? 0 : c->track_id);
+  }
+  return ids;
+}
+
+TEST(ObjectTracker, AWalkerHiddenLongerThanATrackLivesComesBackUnderItsId) {
+  const std::vector<std::int32_t> ids = walker_behind_a_pillar(TrackerParams{});
+  int hidden = 0;
+  for (int k = 20; k < 40; ++k) hidden += ids[static_cast<std::size_t>(k)] == 0 ? 1 : 0;
+  ASSERT_GT(hidden, TrackerParams{}.lifecycle.max_misses);  // the track itself ends while hidden (14 frames)
+  const std::int32_t before = ids[18];
+  ASSERT_NE(before, 0);
+  for (int k = 40; k < 50; ++k) EXPECT_EQ(ids[static_cast<std::size_t>(k)], before) << "frame " << k;
+  // Control: without re-identification the walker comes back under a new id.
+  TrackerParams forget;
+  forget.lifecycle.reid_frames = 0;
+  const std::vector<std::int32_t> new_ids = walker_behind_a_pillar(forget);
+  EXPECT_EQ(new_ids[18], before);
+  for (int k = 40; k < 50; ++k) EXPECT_NE(new_ids[static_cast<std::size_t>(k)], before) << "frame " << k;
 }
 
 TEST(ObjectTracker, TwoCarsInOneClusterAreSplitAsOneScanWouldHaveSeparatedThem) {
@@ -750,6 +795,7 @@ TEST(ObjectTracker, RejectsBadParametersNamingTheField) {
        "tracking.calibration.prior_dof must be finite, got inf"},
       {[](TrackerParams& p) { p.calibration.min_scale = 0.0; }, "tracking.calibration.min_scale must be > 0, got 0"},
       {[](TrackerParams& p) { p.calibration.min_scale = 2.0; }, "tracking.calibration.min_scale must be <= 1, got 2"},
+      {[](TrackerParams& p) { p.lifecycle.reid_frames = -1; }, "tracking.lifecycle.reid_frames (0: never) must be >= 0, got -1"},
   };
   for (const auto& [set, expected] : cases) {
     TrackerParams p;
@@ -798,16 +844,6 @@ TEST(ObjectTracker, TheCovarianceOfAYoungTrackCoversTheTurnItHasNotResolved) {
         << c->velocity.covariance.topLeftCorner<2, 2>();
   }
   EXPECT_GE(large_errors, 1);  // the young track is off before it resolves the turn
-}
-
-// A box with the given centre, half extents and velocity (its Doppler; it may differ from how the
-// centre moves, as a wheel's or a swinging limb's does from its body's).
-SyntheticBox moving_box(const Eigen::Vector3d& centre, const Eigen::Vector3d& half, const Eigen::Vector3d& velocity) {
-  SyntheticBox b;
-  b.center_m = centre;
-  b.half_extent_m = half;
-  b.velocity_mps = velocity;
-  return b;
 }
 
 // A body (instance 1) and a piece of it with a Doppler of its own (instance 2), through the

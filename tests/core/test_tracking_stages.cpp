@@ -633,6 +633,36 @@ TEST(TrackingAssociation, AFarClusterIsSplitBetweenTwoTracksApartNotBetweenTwoOn
   EXPECT_EQ(parts_of_a_far_cluster(0.8), 1u);
 }
 
+// A lost track, a car 4.5 m long at (20, 15.9) moving at 5 m/s along x, its position known to
+// pos_sigma_m, and a track born this frame centred `offset` from it, from 10 pixels there whose
+// Doppler is that of a motion `v_born`. Returns lost_track_of.
+int lost_for(const Eigen::Vector2d& offset, const Eigen::Vector2d& v_born, double pos_sigma_m = 0.1) {
+  HandScan h;
+  std::vector<std::uint32_t> pixels;
+  const Eigen::Vector2d c = Eigen::Vector2d(20.0, 15.9) + offset;
+  for (int n = 0; n < 10; ++n) {
+    const Eigen::Vector3d q(c.x() - 0.5 + 0.1 * n, c.y(), 0.5);
+    h.set(2, 5 + n, q, q.normalized().head<2>().dot(v_born));
+    pixels.push_back(static_cast<std::uint32_t>(h.scan.index(2, 5 + n)));
+  }
+  const ScanBeams beams(h.scan);
+  const Frame frame = standing_frame(h.scan, beams);
+  Track born = track_along_x(c.x(), 1.0);
+  born.x(1) = c.y();
+  std::vector<Track> lost{track_along_x(20.0, 4.5)};
+  lost[0].P.topLeftCorner<2, 2>() = Eigen::Matrix2d::Identity() * pos_sigma_m * pos_sigma_m;
+  return lost_track_of(frame, born, pixels, lost, TrackerParams{});
+}
+
+TEST(TrackingAssociation, ATrackBornWhereALostOneIsPredictedTakesItsIdIfItsMotionExplainsIt) {
+  const Eigen::Vector2d along(5.0, 0.0);
+  EXPECT_EQ(lost_for({1.0, 0.5}, along), 0);   // in its box, moving as it does
+  EXPECT_EQ(lost_for({4.0, 0.0}, along), 0);   // 1.75 m beyond its box: within the gate, 2 + 3 x 0.1 m
+  EXPECT_EQ(lost_for({6.0, 0.0}, along), -1);  // 3.75 m beyond: outside it
+  EXPECT_EQ(lost_for({6.0, 0.0}, along, 1.0), 0);  // ... inside it when its position is known to 1 m (5 m)
+  EXPECT_EQ(lost_for({1.0, 0.5}, {2.0, 0.0}), -1);  // 3 m/s slower: another object
+}
+
 // Two confirmed tracks as old: the host, 10 m long at (20, 0) by default (a truck whose cab and
 // load were born apart in one frame), and the part's, 0.4 times as long, its centre at 0.3
 // times the host's length ahead and 0.05 times aside, inside the host's box; or, with `beside`,

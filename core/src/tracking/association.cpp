@@ -263,6 +263,13 @@ bool moves_with(const Track& host, const Track& other, const TrackerParams& p) {
          (host.velocity() - other.velocity()).norm() <= p.fragments.same_motion_mps;
 }
 
+// How far beyond its predicted box a cluster may lie to join the track: the gate, wider by 3σ of
+// the track's position (a young track's tangential velocity is hardly known).
+double gate_of(const Track& t, const TrackerParams& p) {
+  const double pos_var = t.P.topLeftCorner<2, 2>().eigenvalues().real().maxCoeff();
+  return p.association.gate_m + 3.0 * std::sqrt(std::max(0.0, pos_var));
+}
+
 // Per cluster: the track it joins and the one it would be absorbed into.
 void gate_clusters(const Frame& frame, const std::vector<std::vector<std::uint32_t>>& cluster_pixels,
                    const std::vector<Eigen::Vector2d>& centroid, const std::vector<Track>& tracks,
@@ -277,11 +284,7 @@ void gate_clusters(const Frame& frame, const std::vector<std::vector<std::uint32
     double best = std::numeric_limits<double>::infinity();
     double best_absorb = best;
     for (std::size_t t = 0; t < tracks.size(); ++t) {
-      // The gate widens with the track's position uncertainty: a young track's tangential
-      // velocity is hardly known.
-      const double pos_var = tracks[t].P.topLeftCorner<2, 2>().eigenvalues().real().maxCoeff();
-      const double gate = pa.gate_m + 3.0 * std::sqrt(std::max(0.0, pos_var));
-      if (!boxes[t].contains(centroid[c], gate)) continue;
+      if (!boxes[t].contains(centroid[c], gate_of(tracks[t], p))) continue;
       // A large cluster beside a small track (a car passing a walker) is nearer the walker's
       // centre than its own box's: the box distance decides, the centre only breaks ties.
       const double d = boxes[t].distance(centroid[c]) + 1e-3 * (centroid[c] - boxes[t].centre).norm();
@@ -378,12 +381,28 @@ void merge_nested_tracks(std::vector<Track>& tracks, const std::vector<Box>& box
     for (const std::int32_t l : groups[t].absorbed) a.absorbed[static_cast<std::size_t>(l - 1)] = u;
     groups[t] = Group{};
     tracks[t].misses = p.lifecycle.max_misses + 1;  // pruned at the end of the frame
+    tracks[t].merged = true;
   }
 }
 
 int inside_vehicle(const Frame& frame, const ClusterEstimate& ce, const std::vector<Track>& tracks,
                    const std::vector<Box>& boxes, const TrackerParams& p) {
   return holding_box(frame.world_xy(ce.centroid_m), tracks, boxes, p, true);
+}
+
+int lost_track_of(const Frame& frame, const Track& born, const std::vector<std::uint32_t>& pixels,
+                  const std::vector<Track>& lost, const TrackerParams& p) {
+  int found = -1;
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t l = 0; l < lost.size(); ++l) {
+    const Box b = box_of(lost[l]);
+    if (!b.contains(born.centre(), gate_of(lost[l], p))) continue;
+    const double d = b.distance(born.centre()) + 1e-3 * (born.centre() - b.centre).norm();
+    if (!(d < best) || doppler_deviation(frame, pixels, lost[l]) > p.association.doppler_tolerance_mps) continue;
+    best = d;
+    found = static_cast<int>(l);
+  }
+  return found;
 }
 
 }  // namespace fmcw::core::tracking

@@ -77,4 +77,11 @@ void merge_nested_tracks(std::vector<Track>& tracks, const std::vector<Box>& box
 int inside_vehicle(const Frame& frame, const ClusterEstimate& ce, const std::vector<Track>& tracks,
                    const std::vector<Box>& boxes, const TrackerParams& p);
 
+/// The lost track (TrackerParams::Lifecycle::reid_frames) whose id a track born this frame from
+/// `pixels` takes: one whose predicted box, grown as the association gates (gate_m plus 3σ of
+/// its position), holds the new track's centre and whose motion explains the pixels' Doppler
+/// within doppler_tolerance_mps; the nearest by box distance. -1: none.
+int lost_track_of(const Frame& frame, const Track& born, const std::vector<std::uint32_t>& pixels,
+                  const std::vector<Track>& lost, const TrackerParams& p);
+
 }  // namespace fmcw::core::tracking

@@ -220,6 +220,13 @@ struct TrackerParams {
   struct Lifecycle {
     int confirm_hits = 3;              ///< hysteresis: updates before a track may carry labels
     int max_misses = 5;                ///< frames a track survives without a cluster
+    /// A confirmed track missed for more than max_misses frames is remembered, its motion
+    /// predicted on, for this many frames more: a track born where the association would have
+    /// given it the cluster (its predicted box grown by the gate, the cluster's Doppler explained
+    /// by its motion) takes its id. A walker or a cyclist hidden behind a crossing van for longer
+    /// than max_misses comes back as the object it was. Only the id: the new track's state is
+    /// its own. 0: never.
+    int reid_frames = 15;
     double carry_min_speed_mps = 0.8;  ///< a confirmed track carries "moving" while faster than this [m/s]
     int release_slow_frames = 3;       ///< ... and stops after this many frames below it
     double max_gap_s = 0.5;            ///< frames further apart (or going back in time) reset the tracker [s]
@@ -298,6 +305,7 @@ struct Track {
   int misses = 0;            ///< consecutive frames without one
   int slow_frames = 0;       ///< consecutive frames slower than carry_min_speed_mps
   bool confirmed = false;    ///< hits >= confirm_hits at some point
+  bool merged = false;       ///< ended this frame as a part of another track (merge_nested_tracks)
   bool turning = false;      ///< yaw rate resolved (TrackerParams::Turning; not while the axis is measured)
   int small_hits = 0;        ///< consecutive updates with a box under small_object_m
   bool walker = false;       ///< see TrackerParams::walker_hits
@@ -392,6 +400,9 @@ class ObjectTracker {
 
   TrackerParams params_;
   std::vector<Track> tracks_;
+  /// Confirmed tracks missed too long, kept for Lifecycle::reid_frames frames to give their id
+  /// to a track born where they are predicted.
+  std::vector<Track> lost_;
   std::int32_t next_id_ = 1;
   bool has_pose_ = false;
   double last_stamp_s_ = 0.0;
