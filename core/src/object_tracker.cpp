@@ -235,8 +235,8 @@ void ObjectTracker::update(const Scan& scan, const ScanBeams& beams, MotionEstim
   // Prune the tracks missed too long; the confirmed ones are remembered for reid_frames more.
   const int max_misses = p.lifecycle.max_misses;
   for (Track& t : lost_) ++t.misses;
-  lost_.erase(std::remove_if(lost_.begin(), lost_.end(), [&](const Track& t) { return t.misses > max_misses + p.lifecycle.reid_frames; }),
-              lost_.end());
+  const long long forget = static_cast<long long>(max_misses) + p.lifecycle.reid_frames;  // no overflow
+  lost_.erase(std::remove_if(lost_.begin(), lost_.end(), [&](const Track& t) { return t.misses > forget; }), lost_.end());
   for (const Track& t : tracks_) {
     if (t.misses > max_misses && t.confirmed && !t.merged && p.lifecycle.reid_frames > 0) lost_.push_back(t);
   }

@@ -403,7 +403,10 @@ TEST(ObjectTracker, AWalkerHiddenLongerThanATrackLivesComesBackUnderItsId) {
   forget.lifecycle.reid_frames = 0;
   const std::vector<std::int32_t> new_ids = walker_behind_a_pillar(forget);
   EXPECT_EQ(new_ids[18], before);
-  for (int k = 40; k < 50; ++k) EXPECT_NE(new_ids[static_cast<std::size_t>(k)], before) << "frame " << k;
+  for (int k = 40; k < 50; ++k) {
+    EXPECT_GT(new_ids[static_cast<std::size_t>(k)], 0) << "frame " << k;  // tracked, under another id
+    EXPECT_NE(new_ids[static_cast<std::size_t>(k)], before) << "frame " << k;
+  }
 }
 
 TEST(ObjectTracker, TwoCarsInOneClusterAreSplitAsOneScanWouldHaveSeparatedThem) {
@@ -904,8 +907,10 @@ TEST(ObjectTracker, ALimbSwungOffAWalkerStartsNoTrackOfItsOwn) {
   // a thirtieth of its pixels. Walkers hold no pieces by the image (walkers side by side are as
   // near each other as a body and its limb), so it is the confirmed walker's box and its ten
   // times the pixels (fragments.small_host_ratio) that take it under the walker's label. The arm
-  // swings out once the walker is confirmed (frame 5 on). Without the rule at birth, only the
-  // rule that ends a track on a walker's limb, the arm would start a track every other frame.
+  // swings out once the walker is confirmed (frame 5 on). The control sets small_host_ratio to 0,
+  // which turns off both this rule and the one that ends a track on a walker's limb: the arm
+  // keeps a track of its own. (Checked: with the rule at birth alone removed, the arm starts a
+  // track every other frame and the test fails.)
   const auto scene = [](double t) {
     std::vector<SyntheticBox> actors{moving_box({8.0 + 1.4 * t, 1.0, 0.85}, {0.15, 0.25, 0.85}, {1.4, 0.0, 0.0})};
     if (t > 0.45) actors.push_back(moving_box({8.0 + 1.4 * t, 1.42, 1.0}, {0.04, 0.04, 0.12}, {2.8, 0.0, 0.0}));

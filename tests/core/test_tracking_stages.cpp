@@ -660,6 +660,9 @@ TEST(TrackingAssociation, ATrackBornWhereALostOneIsPredictedTakesItsIdIfItsMotio
   EXPECT_EQ(lost_for({4.0, 0.0}, along), 0);   // 1.75 m beyond its box: within the gate, 2 + 3 x 0.1 m
   EXPECT_EQ(lost_for({6.0, 0.0}, along), -1);  // 3.75 m beyond: outside it
   EXPECT_EQ(lost_for({6.0, 0.0}, along, 1.0), 0);  // ... inside it when its position is known to 1 m (5 m)
+  // Known to 5 m, the gate would be 17 m; it stops at 3 gate_m (6 m): 7.75 m beyond is refused.
+  EXPECT_EQ(lost_for({10.0, 0.0}, along, 5.0), -1);
+  EXPECT_EQ(lost_for({7.0, 0.0}, along, 5.0), 0);  // 4.75 m beyond
   EXPECT_EQ(lost_for({1.0, 0.5}, {2.0, 0.0}), -1);  // 3 m/s slower: another object
 }
 

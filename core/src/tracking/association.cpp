@@ -396,7 +396,9 @@ int lost_track_of(const Frame& frame, const Track& born, const std::vector<std::
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t l = 0; l < lost.size(); ++l) {
     const Box b = box_of(lost[l]);
-    if (!b.contains(born.centre(), gate_of(lost[l], p))) continue;
+    // The position of a track unseen for a second or two is known to metres: the gate grows
+    // with it as the association's does, but to three times gate_m at most.
+    if (!b.contains(born.centre(), std::min(gate_of(lost[l], p), 3.0 * p.association.gate_m))) continue;
     const double d = b.distance(born.centre()) + 1e-3 * (born.centre() - b.centre).norm();
     if (!(d < best) || doppler_deviation(frame, pixels, lost[l]) > p.association.doppler_tolerance_mps) continue;
     best = d;

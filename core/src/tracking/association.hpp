@@ -20,8 +20,9 @@ std::vector<std::vector<std::uint32_t>> pixels_of_clusters(const MotionEstimate&
 /// others get new ones; each part keeps the cluster's single-scan estimate. A good share is
 /// split_min_share, and at least as many pixels as association.min_pixels_at the track's range
 /// asks (a cyclist 60 m away shows 4-8 beside a car). A track that holds fewer than
-/// min_cluster_pixels keeps a part only if neither its centre lies in another sharer's box nor
-/// another's in its own (two such tracks are one far object seen twice).
+/// min_cluster_pixels keeps a part only if its box (grown by claims.claim_margin_m) holds the
+/// centre of no other track whose box reaches the cluster, nor such a track's box its centre
+/// (two such tracks are one far object seen twice).
 void split_shared_clusters(const Frame& frame, MotionEstimate& est, std::vector<std::vector<std::uint32_t>>& cluster_pixels,
                            const std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p);
 
@@ -79,8 +80,8 @@ int inside_vehicle(const Frame& frame, const ClusterEstimate& ce, const std::vec
 
 /// The lost track (TrackerParams::Lifecycle::reid_frames) whose id a track born this frame from
 /// `pixels` takes: one whose predicted box, grown as the association gates (gate_m plus 3σ of
-/// its position), holds the new track's centre and whose motion explains the pixels' Doppler
-/// within doppler_tolerance_mps; the nearest by box distance. -1: none.
+/// its position, at most 3 gate_m), holds the new track's centre and whose motion explains the
+/// pixels' Doppler within doppler_tolerance_mps; the nearest by box distance. -1: none.
 int lost_track_of(const Frame& frame, const Track& born, const std::vector<std::uint32_t>& pixels,
                   const std::vector<Track>& lost, const TrackerParams& p);
 

@@ -99,7 +99,8 @@ bool holds_pieces(const Track& t, const TrackerParams& p) {
   return !t.small(p) || (!t.walker && t.velocity().norm() > p.small.walker_max_speed_mps);
 }
 
-// A confirmed walker, seen this frame, whose update found at least fragments.small_host_ratio
+// A confirmed walker (a small track that holds no pieces by the image: taken for a walker, or
+// no faster than one), seen this frame, whose update found at least fragments.small_host_ratio
 // times n pixels, and whose box holds q: a limb of it swung off the body. -1: none.
 int holding_walker(const Eigen::Vector2d& q, std::size_t n, const std::vector<Track>& tracks,
                    const std::vector<Box>& boxes, const std::vector<Group>& groups, const TrackerParams& p) {

@@ -202,7 +202,8 @@ struct TrackerParams {
     /// (a limb split off when the walker was first seen in two halves) and ends. Stricter than
     /// host_ratio: a walker half hidden behind another shows a good share of its pixels. So a
     /// cluster of at most max_pixels that no track took, whose centroid lies in the box (grown by
-    /// claims.claim_margin_m) of a confirmed walker whose update this frame found small_host_ratio
+    /// claims.claim_margin_m) of a confirmed walker (a small track taken for a walker, or one no
+    /// faster than small.walker_max_speed_mps) whose update this frame found small_host_ratio
     /// times its pixels, is a limb swung off it (the slow knee or elbow between them left out of
     /// the moving pixels): it goes under the walker's label, unmeasured, and starts no track.
     /// 0: never.
@@ -222,8 +223,8 @@ struct TrackerParams {
     int max_misses = 5;                ///< frames a track survives without a cluster
     /// A confirmed track missed for more than max_misses frames is remembered, its motion
     /// predicted on, for this many frames more: a track born where the association would have
-    /// given it the cluster (its predicted box grown by the gate, the cluster's Doppler explained
-    /// by its motion) takes its id. A walker or a cyclist hidden behind a crossing van for longer
+    /// given it the cluster (its predicted box grown by the gate, at most 3 gate_m, the
+    /// cluster's Doppler explained by its motion) takes its id. A walker or a cyclist hidden behind a crossing van for longer
     /// than max_misses comes back as the object it was. Only the id: the new track's state is
     /// its own. 0: never.
     int reid_frames = 15;
