@@ -392,19 +392,14 @@ int inside_vehicle(const Frame& frame, const ClusterEstimate& ce, const std::vec
 
 int lost_track_of(const Frame& frame, const Track& born, const std::vector<std::uint32_t>& pixels,
                   const std::vector<Track>& lost, const TrackerParams& p) {
-  int found = -1;
-  double best = std::numeric_limits<double>::infinity();
-  for (std::size_t l = 0; l < lost.size(); ++l) {
-    const Box b = box_of(lost[l]);
-    // The position of a track unseen for a second or two is known to metres: the gate grows
-    // with it as the association's does, but to three times gate_m at most.
-    if (!b.contains(born.centre(), std::min(gate_of(lost[l], p), 3.0 * p.association.gate_m))) continue;
-    const double d = b.distance(born.centre()) + 1e-3 * (born.centre() - b.centre).norm();
-    if (!(d < best) || doppler_deviation(frame, pixels, lost[l]) > p.association.doppler_tolerance_mps) continue;
-    best = d;
-    found = static_cast<int>(l);
-  }
-  return found;
+  std::vector<Box> boxes(lost.size());
+  for (std::size_t l = 0; l < lost.size(); ++l) boxes[l] = box_of(lost[l]);
+  // The position of a track unseen for a second or two is known to metres: the gate grows with
+  // it as the association's does, but to three times gate_m at most.
+  const double widest = 3.0 * p.association.gate_m;
+  return nearest_holding_box(
+      born.centre(), boxes, [&](std::size_t l) { return std::min(gate_of(lost[l], p), widest); },
+      [&](std::size_t l) { return doppler_deviation(frame, pixels, lost[l]) <= p.association.doppler_tolerance_mps; });
 }
 
 }  // namespace fmcw::core::tracking

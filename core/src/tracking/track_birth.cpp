@@ -104,10 +104,10 @@ bool holds_pieces(const Track& t, const TrackerParams& p) {
 // times n pixels, and whose box holds q: a limb of it swung off the body. -1: none.
 int holding_walker(const Eigen::Vector2d& q, std::size_t n, const std::vector<Track>& tracks,
                    const std::vector<Box>& boxes, const std::vector<Group>& groups, const TrackerParams& p) {
+  if (!(p.fragments.small_host_ratio > 0.0)) return -1;
   const double least = p.fragments.small_host_ratio * static_cast<double>(n);
   return nearest_holding_box(q, boxes, p.claims.claim_margin_m, [&](std::size_t t) {
-    return p.fragments.small_host_ratio > 0.0 && tracks[t].confirmed && !holds_pieces(tracks[t], p) &&
-           static_cast<double>(groups[t].found.size()) >= least;
+    return tracks[t].confirmed && !holds_pieces(tracks[t], p) && static_cast<double>(groups[t].found.size()) >= least;
   });
 }
 }  // namespace

@@ -30,14 +30,14 @@ struct Box {
 /// The track's predicted box (at least 0.4 m on each side).
 Box box_of(const Track& t);
 
-/// Of the boxes t that accept(t) takes and that, grown by grow_m, hold q: the nearest by box
+/// Of the boxes t that accept(t) takes and that, grown by grow_m(t), hold q: the nearest by box
 /// distance, the distance to its centre breaking ties (a point inside two boxes). -1: none.
-template <class Accept>
-int nearest_holding_box(const Eigen::Vector2d& q, const std::vector<Box>& boxes, double grow_m, Accept accept) {
+template <class Grow, class Accept>
+int nearest_holding_box(const Eigen::Vector2d& q, const std::vector<Box>& boxes, Grow grow_m, Accept accept) {
   int holder = -1;
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t t = 0; t < boxes.size(); ++t) {
-    if (!accept(t) || !boxes[t].contains(q, grow_m)) continue;
+    if (!boxes[t].contains(q, grow_m(t)) || !accept(t)) continue;
     const double d = boxes[t].distance(q) + 1e-3 * (q - boxes[t].centre).norm();
     if (d < best) {
       best = d;
@@ -45,6 +45,12 @@ int nearest_holding_box(const Eigen::Vector2d& q, const std::vector<Box>& boxes,
     }
   }
   return holder;
+}
+
+/// The same with every box grown by grow_m.
+template <class Accept>
+int nearest_holding_box(const Eigen::Vector2d& q, const std::vector<Box>& boxes, double grow_m, Accept accept) {
+  return nearest_holding_box(q, boxes, [grow_m](std::size_t) { return grow_m; }, accept);
 }
 
 /// Where the view cuts an outline: at an edge pixel (the top and bottom rows and each head's
