@@ -90,6 +90,9 @@ void TrackerParams::validate() const {
               turning.turn_release_significance);
   tu.at_least("min_turn_hits", turning.min_turn_hits, 1);
   tu.non_negative("axis_shrink_sigmas", turning.axis_shrink_sigmas);
+  tu.non_negative("settle_updates", turning.settle_updates);
+  tu.non_negative("settle_growth_m", turning.settle_growth_m);
+  tu.non_negative("release_hold_updates", turning.release_hold_updates);
   const FieldCheck h{"heading"};
   h.positive("min_length_m", heading.min_length_m);
   h.at_least("min_aspect", heading.min_aspect, 1.0);

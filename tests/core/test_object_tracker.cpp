@@ -799,6 +799,9 @@ TEST(ObjectTracker, RejectsBadParametersNamingTheField) {
       {[](TrackerParams& p) { p.calibration.min_scale = 0.0; }, "tracking.calibration.min_scale must be > 0, got 0"},
       {[](TrackerParams& p) { p.calibration.min_scale = 2.0; }, "tracking.calibration.min_scale must be <= 1, got 2"},
       {[](TrackerParams& p) { p.lifecycle.reid_frames = -1; }, "tracking.lifecycle.reid_frames (0: never) must be >= 0, got -1"},
+      {[](TrackerParams& p) { p.turning.settle_updates = -1; }, "tracking.turning.settle_updates must be >= 0, got -1"},
+      {[](TrackerParams& p) { p.turning.settle_growth_m = -0.1; }, "tracking.turning.settle_growth_m must be >= 0, got -0.1"},
+      {[](TrackerParams& p) { p.turning.release_hold_updates = -2; }, "tracking.turning.release_hold_updates must be >= 0, got -2"},
   };
   for (const auto& [set, expected] : cases) {
     TrackerParams p;
@@ -1126,6 +1129,59 @@ TEST(ObjectTracker, AStraightCarWhoseAxisShowsIsReportedWithoutTheTurnItCannotHa
   // Without the axis, the birth's report carries the turn one scan cannot exclude; later frames'
   // Doppler rows and centres narrow it down.
   EXPECT_GT(without[0].sigma_mps, 4.0);
+}
+
+// A van 5.3 m long driving away from 25 m ahead at `speed` m/s, on a circle bending left at
+// `yaw_rate` rad/s (0: straight): its rear shows, too short for the outline's axis.
+std::function<SyntheticBox(double)> van_driving_away(double speed, double yaw_rate) {
+  return [speed, yaw_rate](double t) {
+    const double th = yaw_rate * t;
+    SyntheticBox b;
+    const double along = yaw_rate == 0.0 ? speed * t : speed / yaw_rate * std::sin(th);
+    const double across = yaw_rate == 0.0 ? 0.0 : speed / yaw_rate * (1.0 - std::cos(th));
+    b.center_m = Eigen::Vector3d(25.0 + along, 2.0 + across, 1.0);
+    b.half_extent_m = Eigen::Vector3d(2.65, 1.0, 1.0);
+    b.yaw_rad = th;
+    b.velocity_mps = Eigen::Vector3d(speed * std::cos(th), speed * std::sin(th), 0.0);
+    b.yaw_rate_rps = yaw_rate;
+    return b;
+  };
+}
+
+// The tracked pipeline with the yaw rate of a settled box taken off its report or not.
+MotionPipeline settled_pipeline(bool shrink_settled) {
+  MotionPipelineParams params = MotionPipelineParams::preset("tracked");
+  params.tracking.turning.shrink_settled = shrink_settled;
+  return MotionPipeline(params);
+}
+
+TEST(ObjectTracker, AFarVanTurningGentlyIsReportedWithTheTurnItsPathShows) {
+  // The van turns at 0.04 rad/s (2.3 degrees a second) 25-65 m ahead: its Doppler field is that
+  // of a velocity 1-2.6 m/s off its centre's, across the line of sight. Its rear shows no axis,
+  // and the yaw rate its path gives stays under the turning rule's three standard deviations.
+  // Once its box has settled (from its eighth frame), the yaw rate, shrunk by its significance,
+  // is taken off.
+  const auto van = van_driving_away(10.0, 0.04);
+  const std::vector<Reported> with = reported(settled_pipeline(true), 50, van);
+  const std::vector<Reported> without = reported(settled_pipeline(false), 50, van);
+  ASSERT_EQ(with.size(), 50u);
+  ASSERT_EQ(without.size(), 50u);
+  for (std::size_t k = 7; k < 50; ++k) {
+    EXPECT_LT(with[k].error_mps, 0.5) << "frame " << k;
+    EXPECT_LT(with[k].error_mps, 3.0 * with[k].sigma_mps) << "frame " << k;
+  }
+  EXPECT_GT(worst_from(without, 7).error_mps, 2.0);  // control: the turn left in
+  // The same van driving straight: its path shows no turn, and taking off the little its filter
+  // holds costs nothing.
+  const auto straight = van_driving_away(10.0, 0.0);
+  const std::vector<Reported> s_with = reported(settled_pipeline(true), 50, straight);
+  const std::vector<Reported> s_without = reported(settled_pipeline(false), 50, straight);
+  ASSERT_EQ(s_with.size(), 50u);
+  ASSERT_EQ(s_without.size(), 50u);
+  for (std::size_t k = 0; k < 50; ++k) {
+    EXPECT_LT(s_with[k].error_mps, s_without[k].error_mps + 0.02) << "frame " << k;
+    EXPECT_LT(std::abs(s_with[k].yaw_rate_rps), 0.01) << "frame " << k;
+  }
 }
 
 // A small object (1 m long, 0.9 m tall) crossing far away at 10 m/s, range_m ahead: 4-6 pixels

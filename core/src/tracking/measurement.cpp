@@ -165,10 +165,28 @@ void update_track_state(Track& tr, const Group& g, const TrackerParams& p) {
   }
   if (tr.hits >= p.lifecycle.confirm_hits) tr.confirmed = true;
   if (!g.empty()) tr.small_hits = std::max(tr.length_m, tr.width_m) < p.small.small_object_m ? tr.small_hits + 1 : 0;
+  if (!g.empty()) note_extent(tr, p, false);
   const bool slow = tr.velocity().norm() < p.small.walker_max_speed_mps;
   tr.walker = slow && (tr.walker || (p.small.walker_hits > 0 && tr.small_hits >= p.small.walker_hits));
   tr.slow_frames = tr.velocity().norm() < p.lifecycle.carry_min_speed_mps ? tr.slow_frames + 1 : 0;
   update_turning(tr, p);
+}
+
+void note_extent(Track& tr, const TrackerParams& p, bool born) {
+  const double extent = tr.length_m + tr.width_m;
+  if (born || extent > tr.settled_extent_m + p.turning.settle_growth_m) {
+    tr.settled_extent_m = extent;
+    tr.updates_settled = 0;
+    return;
+  }
+  tr.settled_extent_m = std::min(tr.settled_extent_m, extent);
+  ++tr.updates_settled;
+}
+
+bool settled(const Track& tr, const TrackerParams& p) {
+  const TrackerParams::Turning& pt = p.turning;
+  return pt.shrink_settled && !tr.outline_cut && tr.hits >= pt.min_turn_hits && tr.updates_settled >= pt.settle_updates &&
+         tr.updates_since_turn > pt.release_hold_updates;
 }
 
 void update_turning(Track& tr, const TrackerParams& p) {
@@ -177,8 +195,13 @@ void update_turning(Track& tr, const TrackerParams& p) {
   const double w_sigma = std::sqrt(std::max(0.0, tr.P(4, 4)));
   // A track whose outline's axis was measured in this update reports its yaw rate shrunk by its
   // significance instead (relabel.cpp), at any age and rate.
+  const auto track_since = [&tr] {
+    if (tr.turning) tr.updates_since_turn = 0;
+    else if (tr.updates_since_turn != Track::kNever) ++tr.updates_since_turn;
+  };
   if (tr.axis_seen) {
     tr.turning = false;
+    track_since();
     return;
   }
   // Otherwise turning once the yaw rate is resolved on a track of some age; still turning while
@@ -187,6 +210,7 @@ void update_turning(Track& tr, const TrackerParams& p) {
   // and the yaw rate's variance grows for a while, not its value).
   tr.turning = w >= pt.min_turn_rate_rps && (tr.turning ? w >= pt.turn_release_significance * w_sigma
                                                         : tr.hits >= pt.min_turn_hits && w >= pt.turn_significance * w_sigma);
+  track_since();
 }
 
 }  // namespace fmcw::core::tracking

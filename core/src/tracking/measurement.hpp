@@ -16,8 +16,16 @@ void measure(Track& tr, const Group& whole, bool born, const Frame& frame, const
 /// After the frame's updates: hits or misses, confirmation, walker and turning state.
 void update_track_state(Track& tr, const Group& g, const TrackerParams& p);
 
-/// Whether the track's turn is resolved (TrackerParams::Turning).
+/// Whether the track's turn is resolved (TrackerParams::Turning); counts the updates since it
+/// last was.
 void update_turning(Track& tr, const TrackerParams& p);
+
+/// Counts the updates since the box's length plus width last grew by more than
+/// Turning::settle_growth_m (born: from now).
+void note_extent(Track& tr, const TrackerParams& p, bool born);
+
+/// Its box has settled: the yaw rate its path gives is the body's (Turning::shrink_settled).
+bool settled(const Track& tr, const TrackerParams& p);
 
 /// The outline's axis of the pixels (TrackerParams::Heading), where it is informative and the
 /// track is no walker, not small and faster than a walker, as a measurement of the velocity's direction: its information

@@ -88,6 +88,7 @@ Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, co
   tr.hits = 1;
   tr.last_pixels = static_cast<int>(g.found.size());
   if (tr.hits >= p.lifecycle.confirm_hits) tr.confirmed = true;
+  note_extent(tr, p, true);
   update_turning(tr, p);
   return tr;
 }

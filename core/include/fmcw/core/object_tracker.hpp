@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "fmcw/core/scan.hpp"
@@ -150,6 +151,18 @@ struct TrackerParams {
     /// A track whose outline's axis was measured in the update: the yaw rate taken off the
     /// Doppler's velocity is omega^3 / (omega^2 + k^2 sigma^2), k = axis_shrink_sigmas.
     double axis_shrink_sigmas = 1.0;
+    /// A track whose box has settled reports its yaw rate shrunk the same way without its axis:
+    /// the yaw rate comes from the path of the box's centre against the Doppler's velocity, and
+    /// is the body's once that path is the body's. Settled: its last box not cut (see
+    /// Track::outline_cut), at least min_turn_hits updates, length plus width grown by no more
+    /// than settle_growth_m over the last settle_updates updates (a box growing as more of the
+    /// object comes into view moves its centre), and not turning within the last
+    /// release_hold_updates updates (the filter's yaw rate lags the end of a turn). Otherwise
+    /// (and with shrink_settled false) the yaw rate is not taken off.
+    bool shrink_settled = true;
+    int settle_updates = 5;
+    double settle_growth_m = 0.2;  ///< [m]
+    int release_hold_updates = 30;
   } turning;
 
   /// Association of clusters to tracks.
@@ -308,6 +321,13 @@ struct Track {
   bool confirmed = false;    ///< hits >= confirm_hits at some point
   bool merged = false;       ///< ended this frame as a part of another track (merge_nested_tracks)
   bool turning = false;      ///< yaw rate resolved (TrackerParams::Turning; not while the axis is measured)
+  /// Updates since it was last turning; kNever if it has not turned.
+  int updates_since_turn = kNever;
+  static constexpr int kNever = std::numeric_limits<int>::max();
+  /// Length plus width when the box last grew by more than Turning::settle_growth_m (or
+  /// shrank), and the updates since (TrackerParams::Turning::shrink_settled).
+  double settled_extent_m = 0.0;
+  int updates_settled = 0;
   int small_hits = 0;        ///< consecutive updates with a box under small_object_m
   bool walker = false;       ///< see TrackerParams::walker_hits
   /// The last box measured had an end cut sideways, by a head's column edge or an occluder: what
