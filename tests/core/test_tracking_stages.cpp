@@ -483,32 +483,42 @@ TEST(TrackingOutlineAxis, TheAxisFixesTheYawRateTheDopplerLeavesOpen) {
 
 // A track at (20, 0) moving at 5 m/s along x; three clusters of 10 pixels: one on it whose
 // Doppler its motion explains, one on it whose Doppler it does not, one 10 m beside it.
+// A cluster of 10 pixels in row `row` (columns 5..14), from `at` 0.1 m apart along x, moving
+// at 5 m/s along x, its Doppler off that by extra_doppler.
+void add_row_cluster(HandScan& h, MotionEstimate& est, int row, const Eigen::Vector2d& at, double extra_doppler = 0.0) {
+  ClusterEstimate ce;
+  ce.id = static_cast<std::int32_t>(est.clusters.size()) + 1;
+  for (int n = 0; n < 10; ++n) {
+    const Eigen::Vector3d p(at.x() + 0.1 * n, at.y(), 0.5);
+    h.set(row, 5 + n, p, 5.0 * p.normalized().x() + extra_doppler);
+    est.labels[h.scan.index(row, 5 + n)] = ce.id;
+    ce.centroid_m += p / 10.0;
+  }
+  ce.num_pixels = 10;
+  est.clusters.push_back(ce);
+}
+
+// A track at (20, 0) moving at 5 m/s along x, its position known to 1 cm, with a box of the
+// given length and width.
+Track track_at_20(double length_m, double width_m) {
+  Track tr;
+  tr.x << 20.0, 0.0, 5.0, 0.0, 0.0;
+  tr.P = Mat5::Identity() * 1e-4;
+  tr.length_m = length_m;
+  tr.width_m = width_m;
+  return tr;
+}
+
 TEST(TrackingAssociation, GatesByBoxAndDoppler) {
   HandScan h;
   MotionEstimate est;
   est.labels.assign(h.scan.size(), 0);
-  const auto add_cluster = [&](int row, const Eigen::Vector2d& at, double extra_doppler) {
-    ClusterEstimate ce;
-    ce.id = static_cast<std::int32_t>(est.clusters.size()) + 1;
-    for (int n = 0; n < 10; ++n) {
-      const Eigen::Vector3d p(at.x() + 0.1 * n, at.y(), 0.5);
-      h.set(row, 5 + n, p, 5.0 * p.normalized().x() + extra_doppler);
-      est.labels[h.scan.index(row, 5 + n)] = ce.id;
-      ce.centroid_m += p / 10.0;
-    }
-    ce.num_pixels = 10;
-    est.clusters.push_back(ce);
-  };
-  add_cluster(0, {19.5, 0.0}, 0.0);
-  add_cluster(1, {19.5, 0.3}, 3.0);
-  add_cluster(2, {19.5, 10.0}, 0.0);
+  add_row_cluster(h, est, 0, {19.5, 0.0}, 0.0);
+  add_row_cluster(h, est, 1, {19.5, 0.3}, 3.0);
+  add_row_cluster(h, est, 2, {19.5, 10.0}, 0.0);
   const ScanBeams beams(h.scan);
   const Frame frame = standing_frame(h.scan, beams);
-  Track tr;
-  tr.x << 20.0, 0.0, 5.0, 0.0, 0.0;
-  tr.P = Mat5::Identity() * 1e-4;
-  tr.length_m = 4.5;
-  tr.width_m = 1.8;
+  const Track tr = track_at_20(4.5, 1.8);
   const std::vector<Track> tracks{tr};
   const std::vector<Box> boxes{box_of(tr)};
   std::vector<Group> groups(1);
@@ -523,6 +533,39 @@ TEST(TrackingAssociation, GatesByBoxAndDoppler) {
   EXPECT_EQ(a.absorbed[2], -1);
   EXPECT_EQ(groups[0].found, cluster_pixels[0]);
   EXPECT_EQ(groups[0].absorbed, std::vector<std::int32_t>{2});
+}
+
+// A track at (20, 0) moving at 5 m/s along x, its box 2.8 x 0.7 m (shorter than a vehicle's),
+// and two clusters that move with it: one on its box, one 1.6 m beyond its front (the part of a
+// bus alongside that the next head shows). Returns the clusters that join the track.
+std::vector<std::int32_t> joined_beyond_the_box(bool confirmed, bool cut, const TrackerParams& p = {}) {
+  HandScan h;
+  MotionEstimate est;
+  est.labels.assign(h.scan.size(), 0);
+  add_row_cluster(h, est, 0, {19.6, 0.2});
+  add_row_cluster(h, est, 1, {22.5, 0.2});
+  const ScanBeams beams(h.scan);
+  const Frame frame = standing_frame(h.scan, beams);
+  Track tr = track_at_20(2.8, 0.7);
+  tr.hits = 10;
+  tr.confirmed = confirmed;
+  tr.outline_cut = cut;
+  const std::vector<Track> tracks{tr};
+  const std::vector<Box> boxes{box_of(tr)};
+  std::vector<Group> groups(1);
+  associate(frame, pixels_of_clusters(est), est, tracks, boxes, p, groups);
+  return groups[0].clusters;
+}
+
+TEST(TrackingAssociation, ABoxCutByTheViewReachesForItsUnseenPartAsAVehiclesDoes) {
+  const std::vector<std::int32_t> both{1, 2}, nearest{1};
+  EXPECT_EQ(joined_beyond_the_box(true, true), both);
+  // Not without the rule, nor for a box whose ends were seen, nor for a track not yet confirmed.
+  TrackerParams off;
+  off.association.cut_box_reach = false;
+  EXPECT_EQ(joined_beyond_the_box(true, true, off), nearest);
+  EXPECT_EQ(joined_beyond_the_box(true, false), nearest);
+  EXPECT_EQ(joined_beyond_the_box(false, true), nearest);
 }
 
 // A confirmed track at (20, 0) moving at 5 m/s along x, and one cluster of 20 pixels in its box:

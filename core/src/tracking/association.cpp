@@ -270,6 +270,15 @@ double gate_of(const Track& t, const TrackerParams& p) {
   return p.association.gate_m + 3.0 * std::sqrt(std::max(0.0, pos_var));
 }
 
+}  // namespace
+
+bool reaches_unseen_part(const Track& t, const TrackerParams& p) {
+  return p.association.cut_box_reach && t.confirmed && t.outline_cut && !t.small(p) &&
+         t.velocity().norm() > p.small.walker_max_speed_mps;
+}
+
+namespace {
+
 // Per cluster: the track it joins and the one it would be absorbed into.
 void gate_clusters(const Frame& frame, const std::vector<std::vector<std::uint32_t>>& cluster_pixels,
                    const std::vector<Eigen::Vector2d>& centroid, const std::vector<Track>& tracks,
@@ -315,7 +324,8 @@ Association associate(const Frame& frame, const std::vector<std::vector<std::uin
   gate_clusters(frame, cluster_pixels, centroid, tracks, boxes, p, a);
   // A track's nearest cluster always joins it; further ones only from inside its box grown by
   // claim_margin_m (walkers side by side move alike), a vehicle's by the gate (its far end may
-  // not have been seen yet). The others start tracks.
+  // not have been seen yet), and so a confirmed box cut by the view or an occluder
+  // (reaches_unseen_part). The others start tracks.
   for (std::size_t t = 0; t < tracks.size(); ++t) {
     std::vector<std::size_t> mine;
     for (std::size_t c = 0; c < k; ++c) {
@@ -326,7 +336,7 @@ Association associate(const Frame& frame, const std::vector<std::vector<std::uin
       const double dy = boxes[t].distance(centroid[y]);
       return dx != dy ? dx < dy : x < y;
     });
-    const bool vehicle = tracks[t].vehicle(p);
+    const bool vehicle = tracks[t].vehicle(p) || reaches_unseen_part(tracks[t], p);
     const bool small = tracks[t].small(p);
     for (std::size_t n = 0; n < mine.size(); ++n) {
       const std::size_t c = mine[n];

@@ -185,6 +185,10 @@ struct TrackerParams {
     /// its box (its far end may not have been seen yet), and small clusters inside its box whose
     /// Doppler it does not explain (wheels) take its label without being measured [m].
     double vehicle_length_m = 3.0;
+    /// A confirmed track that is not small, faster than a walker, whose last box was cut by the
+    /// view or an occluder, takes a second cluster up to the gate from its box too: its far end
+    /// has not been seen (a bus alongside fills one head, its front shows in the next).
+    bool cut_box_reach = true;
     int absorb_max_pixels = 60;  ///< size bound of such a wheel cluster [pixels]
     /// A cluster is split between two or more tracks when each one's predicted box holds at
     /// least this share of the pixels that track had last frame, and at least min_pixels_at its
