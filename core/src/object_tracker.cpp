@@ -123,6 +123,7 @@ void TrackerParams::validate() const {
   f.non_negative("small_host_ratio (0: never)", fragments.small_host_ratio);
   f.non_negative("same_motion_margin_m (0: only the box)", fragments.same_motion_margin_m);
   f.non_negative("same_motion_mps", fragments.same_motion_mps);
+  f.non_negative("own_motion_hits (0: never)", fragments.own_motion_hits);
   const FieldCheck l{"lifecycle"};
   l.at_least("confirm_hits", lifecycle.confirm_hits, 1);
   l.non_negative("max_misses", lifecycle.max_misses);
@@ -212,7 +213,7 @@ void ObjectTracker::update(const Scan& scan, const ScanBeams& beams, MotionEstim
   split_by_doppler(frame, est, cluster_pixels, tracks_, boxes, p);
   std::vector<Group> groups(tracks_.size());
   Association assoc = associate(frame, cluster_pixels, est, tracks_, boxes, p, groups);
-  merge_nested_tracks(tracks_, boxes, p, assoc, groups);
+  merge_nested_tracks(frame, tracks_, boxes, p, assoc, groups);
   // Claim: the parts of carrying tracks inside the blind band.
   claim_pixels(frame, est, tracks_, boxes, background_, p, groups);
   // Measure every track that has pixels this frame.

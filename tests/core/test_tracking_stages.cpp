@@ -741,7 +741,9 @@ bool part_merged(int part_last_pixels, double host_length_m = 10.0, int host_las
   Association a;
   a.owner = {0, 1};
   a.absorbed = {-1, -1};
-  merge_nested_tracks(tracks, boxes, p, a, groups);
+  const Scan scan = Scan::make_empty(1, 1);
+  const ScanBeams beams(scan);
+  merge_nested_tracks(standing_frame(scan, beams), tracks, boxes, p, a, groups);
   const bool merged = groups[1].clusters.empty() && a.absorbed[1] == 0 && tracks[1].misses > p.lifecycle.max_misses;
   EXPECT_EQ(merged, groups[0].absorbed == std::vector<std::int32_t>{2});
   return merged;
@@ -779,6 +781,45 @@ TEST(TrackingAssociation, AFaceOfAVehicleBesideItsBoxMovingWithItEnds) {
   TrackerParams only_the_box;  // control: the same face, with only the box grown by claim_margin_m
   only_the_box.fragments.same_motion_margin_m = 0.0;
   EXPECT_FALSE(part_merged(80, 10.0, 3000, 0.6, {}, only_the_box));
+}
+
+// A confirmed car's track, 40 updates old, 4.5 m long at (20, 0) moving at 5 m/s along x (3,000
+// pixels last), and inside its box a confirmed track `hits` updates old, 1.8 m long, whose
+// 10 pixels move at 5 + extra_mps m/s along x. Returns whether that track was merged into the car's.
+bool rider_merged(int hits, double extra_mps, const TrackerParams& p = {}) {
+  HandScan h;
+  MotionEstimate est;
+  est.labels.assign(h.scan.size(), 0);
+  add_row_cluster(h, est, 0, {19.6, 0.3}, extra_mps);
+  const ScanBeams beams(h.scan);
+  std::vector<Track> tracks{track_at_20(4.5, 1.8), track_at_20(1.8, 0.6)};
+  tracks[0].hits = 40;
+  tracks[0].last_pixels = 3000;
+  tracks[1].x << 20.0, 0.3, 5.0 + extra_mps, 0.0, 0.0;
+  tracks[1].hits = hits;
+  tracks[1].last_pixels = 10;
+  for (Track& t : tracks) t.confirmed = true;
+  const std::vector<Box> boxes{box_of(tracks[0]), box_of(tracks[1])};
+  std::vector<Group> groups(2);
+  groups[1].clusters = {1};
+  groups[1].found = pixels_of_clusters(est)[0];
+  Association a;
+  a.owner = {1};
+  a.absorbed = {-1};
+  merge_nested_tracks(standing_frame(h.scan, beams), tracks, boxes, p, a, groups);
+  return tracks[1].merged;
+}
+
+TEST(TrackingAssociation, ARiderInsideACarsBoxMovingOtherwiseKeepsItsTrack) {
+  // A cyclist at 2 m/s beside a car at 5 (a car turning past it: inside its box), tracked for 12
+  // updates: an object of its own. A track as young as a wheel's, or one that moves with the
+  // car, ends as a part; so does the cyclist without the rule.
+  EXPECT_FALSE(rider_merged(12, -3.0));
+  EXPECT_TRUE(rider_merged(5, -3.0));
+  EXPECT_TRUE(rider_merged(12, 0.0));
+  TrackerParams never;
+  never.fragments.own_motion_hits = 0;
+  EXPECT_TRUE(rider_merged(12, -3.0, never));
 }
 
 // ---- Track birth -----------------------------------------------------------------------------

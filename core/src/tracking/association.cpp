@@ -359,7 +359,7 @@ Association associate(const Frame& frame, const std::vector<std::vector<std::uin
   return a;
 }
 
-void merge_nested_tracks(std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p,
+void merge_nested_tracks(const Frame& frame, std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p,
                          Association& a, std::vector<Group>& groups) {
   for (std::size_t t = 0; t < tracks.size(); ++t) {
     if (groups[t].clusters.empty()) continue;
@@ -372,6 +372,11 @@ void merge_nested_tracks(std::vector<Track>& tracks, const std::vector<Box>& box
     if (small_host) u = holding_box(boxes[t].centre, tracks, boxes, p, false, t);
     if (u < 0) continue;
     const Track& host = tracks[static_cast<std::size_t>(u)];
+    // An established track whose pixels the vehicle's motion does not explain moves on its own
+    // (a cyclist beside a turning car, inside its box): no part of it.
+    if (!small_host && p.fragments.own_motion_hits > 0 && tracks[t].confirmed && tracks[t].hits >= p.fragments.own_motion_hits &&
+        !groups[t].found.empty() && doppler_deviation(frame, groups[t].found, host) > p.association.doppler_tolerance_mps)
+      continue;
     const double ratio = small_host ? p.fragments.small_host_ratio : p.fragments.host_ratio;
     // Two tracks born in one frame from two parts of a truck (the cab and its load) are as old:
     // the one that now finds a few times fewer pixels than the other follows a part.

@@ -72,8 +72,10 @@ Association associate(const Frame& frame, const std::vector<std::vector<std::uin
 /// So it does inside a vehicle as old whose last update found fragments.host_ratio times its
 /// pixels (two tracks born in one frame from the cab and the load of a truck), or that is as old,
 /// no vehicle itself, and moves with it (a car first seen in two halves). Two confirmed vehicles
-/// are otherwise left alone (split_shared_clusters parts them).
-void merge_nested_tracks(std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p,
+/// are otherwise left alone (split_shared_clusters parts them), and so is a confirmed track of at
+/// least fragments.own_motion_hits updates inside a vehicle's box whose pixels the vehicle's
+/// motion does not explain (a cyclist riding beside a turning car).
+void merge_nested_tracks(const Frame& frame, std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p,
                          Association& a, std::vector<Group>& groups);
 
 /// The confirmed vehicle track whose box (grown by claim_margin_m) holds the cluster's centroid,

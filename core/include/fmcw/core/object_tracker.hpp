@@ -232,6 +232,11 @@ struct TrackerParams {
     /// shows its side and its front corner. 0: only the box [m, m/s].
     double same_motion_margin_m = 0.5;
     double same_motion_mps = 0.5;
+    /// A confirmed track of at least own_motion_hits updates, inside a vehicle's box (as above),
+    /// whose pixels' Doppler the vehicle's motion does not explain (beyond
+    /// association.doppler_tolerance_mps), moves on its own (a cyclist riding beside a turning
+    /// car, inside its box): it is left alone. A piece's track (a wheel) ends younger. 0: never.
+    int own_motion_hits = 10;
   } fragments;
 
   /// A track's life.
