@@ -139,10 +139,10 @@ struct TrackerParams {
   /// min_turn_hits updates (a young track's yaw rate follows its box as more of the object comes
   /// into view), and stops when |omega| falls below min_turn_rate_rps or
   /// turn_release_significance standard deviations. Otherwise the velocity reported is the one
-  /// its Doppler field shows, with yaw rate 0. A track whose outline's axis was measured in the
-  /// update (Heading) does not use these: its yaw rate is known as well as its variance says, and
-  /// the velocity reported is the Doppler's less the yaw rate shrunk by its significance times
-  /// z x (o - c).
+  /// its Doppler field shows, with yaw rate 0, but for a track whose outline's axis was measured
+  /// in the update (Heading) or whose box has settled (shrink_settled): its yaw rate is known as
+  /// well as its variance says, and the velocity reported is the Doppler's less the yaw rate
+  /// shrunk by its significance times z x (o - c).
   struct Turning {
     double min_turn_rate_rps = 0.05;  ///< [rad/s]
     double turn_significance = 3.0;
