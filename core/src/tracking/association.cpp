@@ -270,14 +270,14 @@ double gate_of(const Track& t, const TrackerParams& p) {
   return p.association.gate_m + 3.0 * std::sqrt(std::max(0.0, pos_var));
 }
 
-}  // namespace
-
+// A track whose far end may not have been seen though its box is shorter than a vehicle's
+// (TrackerParams::Association::cut_box_reach): confirmed, not small, faster than a walker, its
+// last box cut by the view or an occluder (a bus alongside that fills one head, its front in the
+// next). A second cluster joins it up to the gate from its box, as one joins a vehicle's.
 bool reaches_unseen_part(const Track& t, const TrackerParams& p) {
   return p.association.cut_box_reach && t.confirmed && t.outline_cut && !t.small(p) &&
          t.velocity().norm() > p.small.walker_max_speed_mps;
 }
-
-namespace {
 
 // Per cluster: the track it joins and the one it would be absorbed into.
 void gate_clusters(const Frame& frame, const std::vector<std::vector<std::uint32_t>>& cluster_pixels,
@@ -372,11 +372,6 @@ void merge_nested_tracks(const Frame& frame, std::vector<Track>& tracks, const s
     if (small_host) u = holding_box(boxes[t].centre, tracks, boxes, p, false, t);
     if (u < 0) continue;
     const Track& host = tracks[static_cast<std::size_t>(u)];
-    // An established track whose pixels the vehicle's motion does not explain moves on its own
-    // (a cyclist beside a turning car, inside its box): no part of it.
-    if (!small_host && p.fragments.own_motion_hits > 0 && tracks[t].confirmed && tracks[t].hits >= p.fragments.own_motion_hits &&
-        !groups[t].found.empty() && doppler_deviation(frame, groups[t].found, host) > p.association.doppler_tolerance_mps)
-      continue;
     const double ratio = small_host ? p.fragments.small_host_ratio : p.fragments.host_ratio;
     // Two tracks born in one frame from two parts of a truck (the cab and its load) are as old:
     // the one that now finds a few times fewer pixels than the other follows a part.
@@ -386,6 +381,12 @@ void merge_nested_tracks(const Frame& frame, std::vector<Track>& tracks, const s
     const bool twin = !small_host && host.hits == tracks[t].hits && moves_with(host, tracks[t], p);
     if (host.hits <= tracks[t].hits && !much_larger && !twin) continue;
     if (tracks[t].vehicle(p) && tracks[t].confirmed && !much_larger) continue;  // two vehicles: leave to the split
+    // An established track whose pixels the vehicle's motion does not explain moves on its own
+    // (a cyclist beside a turning car, inside its box): no part of it. Tested last: the Doppler
+    // only of a track that would otherwise end here.
+    if (!small_host && p.fragments.own_motion_hits > 0 && tracks[t].confirmed && tracks[t].hits >= p.fragments.own_motion_hits &&
+        !groups[t].found.empty() && doppler_deviation(frame, groups[t].found, host) > p.association.doppler_tolerance_mps)
+      continue;
     Group& into = groups[static_cast<std::size_t>(u)];
     for (const std::int32_t l : groups[t].clusters) {
       into.absorbed.push_back(l);

@@ -39,12 +39,6 @@ void split_shared_clusters(const Frame& frame, MotionEstimate& est, std::vector<
 void split_by_doppler(const Frame& frame, MotionEstimate& est, std::vector<std::vector<std::uint32_t>>& cluster_pixels,
                       const std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p);
 
-/// A track whose far end may not have been seen though its box is shorter than a vehicle's
-/// (TrackerParams::Association::cut_box_reach): confirmed, not small, faster than a walker, its
-/// last box cut by the view or an occluder (a bus alongside that fills one head, its front in
-/// the next). A second cluster joins it up to the gate from its box, as one joins a vehicle's.
-bool reaches_unseen_part(const Track& t, const TrackerParams& p);
-
 /// Median |Doppler - the track's prediction| over (at most about 256 of) the pixels.
 double doppler_deviation(const Frame& frame, const std::vector<std::uint32_t>& pixels, const Track& track);
 

@@ -193,12 +193,12 @@ void update_turning(Track& tr, const TrackerParams& p) {
   const TrackerParams::Turning& pt = p.turning;
   const double w = std::abs(tr.yaw_rate());
   const double w_sigma = std::sqrt(std::max(0.0, tr.P(4, 4)));
-  // A track whose outline's axis was measured in this update reports its yaw rate shrunk by its
-  // significance instead (relabel.cpp), at any age and rate.
   const auto track_since = [&tr] {
     if (tr.turning) tr.updates_since_turn = 0;
     else if (tr.updates_since_turn != Track::kNever) ++tr.updates_since_turn;
   };
+  // A track whose outline's axis was measured in this update reports its yaw rate shrunk by its
+  // significance instead (relabel.cpp), at any age and rate.
   if (tr.axis_seen) {
     tr.turning = false;
     track_since();
