@@ -98,6 +98,9 @@ void TrackerParams::validate() const {
   h.at_least("min_aspect", heading.min_aspect, 1.0);
   h.positive("sigma_rad", heading.sigma_rad);
   h.non_negative("end_sigma_per_m", heading.end_sigma_per_m);
+  h.non_negative("near_sigma_rad", heading.near_sigma_rad);
+  h.non_negative("near_range_lengths", heading.near_range_lengths);
+  h.non_negative("gate_sigmas (0: never)", heading.gate_sigmas);
   h.at_least("cut_sigma_factor", heading.cut_sigma_factor, 1.0);
   h.positive("slip_sigma_mps", heading.slip_sigma_mps);
   h.non_negative("centre_offset_fraction", heading.centre_offset_fraction);

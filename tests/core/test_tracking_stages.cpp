@@ -479,6 +479,72 @@ TEST(TrackingOutlineAxis, TheAxisFixesTheYawRateTheDopplerLeavesOpen) {
   EXPECT_TRUE(none.isZero());
 }
 
+TEST(TrackingOutlineAxis, ItsHeadingIsFinerBroadsideThanEndOnAndCoarsestAlongside) {
+  // The noise the tracker states for the heading an axis measures (axis_heading_variance). A
+  // car 30 m away seen broadside: its side's direction comes from its points' ranges, and the
+  // noise is sigma_rad. The same car turned 25 degrees off the line of sight: from their lateral
+  // offsets, a pixel's width apart, end_sigma_per_m of the range over the length, times the
+  // cosine. A bus alongside, nearer than two of its lengths: near_sigma_rad. Each measured axis
+  // is within its stated noise of the known heading.
+  const TrackerParams::Heading p;
+  const double bearing = 10.0 * M_PI / 180.0;
+  const Eigen::Vector2d at30 = 30.0 * Eigen::Vector2d(std::cos(bearing), std::sin(bearing));
+  const auto sigma_of = [&](const AxisCase& c, double yaw) {
+    const OutlineAxis a = axis_of(c);
+    EXPECT_TRUE(a.informative);
+    const double sigma = std::sqrt(axis_heading_variance(a, Eigen::Vector2d::Zero(), false, p));
+    EXPECT_LT(axis_angle(a.axis, yaw), 1.96 * sigma);
+    return std::make_pair(a, sigma);
+  };
+  const double broadside_yaw = bearing + 0.5 * M_PI;
+  const auto [broadside, s_broadside] = sigma_of(render_box(at30, 4.5, 1.8, broadside_yaw), broadside_yaw);
+  const double end_on_yaw = bearing + 25.0 * M_PI / 180.0;
+  const auto [end_on, s_end_on] = sigma_of(render_box(at30, 4.5, 1.8, end_on_yaw), end_on_yaw);
+  EXPECT_NEAR(s_broadside, p.sigma_rad, 0.1 * p.sigma_rad);
+  const double expected_end = p.end_sigma_per_m * 30.0 / end_on.length_m * std::cos(25.0 * M_PI / 180.0);
+  EXPECT_NEAR(s_end_on, std::hypot(p.sigma_rad, expected_end), 0.1 * expected_end);
+  EXPECT_GT(s_end_on, 1.5 * s_broadside);
+  const auto [bus, s_bus] = sigma_of(render_box({10.0, 8.0}, 12.0, 2.5, 0.0), 0.0);
+  ASSERT_LT(bus.at.norm(), p.near_range_lengths * bus.length_m);
+  EXPECT_GE(s_bus, p.near_sigma_rad);
+  // Cut by the view or an occluder: cut_sigma_factor times as much.
+  EXPECT_DOUBLE_EQ(axis_heading_variance(broadside, Eigen::Vector2d::Zero(), true, p),
+                   p.cut_sigma_factor * p.cut_sigma_factor * s_broadside * s_broadside);
+}
+
+TEST(TrackingOutlineAxis, AnAxisFarOffTheTracksHeadingIsNotMeasured) {
+  // A track sure it drives along x at 8 m/s; the outline it takes is a car's at 30 degrees (a
+  // far car's few columns read the wrong way, or another shape): beyond gate_sigmas of the
+  // innovation's spread, the axis is not measured in this update. With the gate off it is,
+  // Huber-weighted. An outline along the track's own heading is measured.
+  const AxisCase skew = render_box({20.0, 6.0}, 4.5, 1.8, 30.0 * M_PI / 180.0);
+  const AxisCase along = render_box({20.0, 6.0}, 4.5, 1.8, 0.0);
+  const ScanBeams skew_beams(skew.rendered.scan), along_beams(along.rendered.scan);
+  const Frame skew_frame = standing_frame(skew.rendered.scan, skew_beams);
+  const Frame along_frame = standing_frame(along.rendered.scan, along_beams);
+  const auto sure_along_x = [] {
+    Track tr;
+    tr.length_m = 4.5;
+    tr.width_m = 1.8;
+    tr.x << 20.0, 6.0, 8.0, 0.0, 0.0;
+    tr.P = Mat5::Identity() * 0.01;
+    return tr;
+  };
+  const auto measured = [](Track tr, const AxisCase& c, const Frame& frame, const TrackerParams& p) {
+    Mat5 info = Mat5::Zero();
+    Vec5 grad = Vec5::Zero();
+    const bool used = axis_information(tr, c.pixels, frame, p, info, grad);
+    EXPECT_EQ(used, tr.axis_seen);
+    EXPECT_EQ(used, !info.isZero());
+    return used;
+  };
+  EXPECT_FALSE(measured(sure_along_x(), skew, skew_frame, TrackerParams{}));
+  TrackerParams no_gate;
+  no_gate.heading.gate_sigmas = 0.0;
+  EXPECT_TRUE(measured(sure_along_x(), skew, skew_frame, no_gate));
+  EXPECT_TRUE(measured(sure_along_x(), along, along_frame, TrackerParams{}));
+}
+
 // ---- Association gating -------------------------------------------------------------------
 
 // A track at (20, 0) moving at 5 m/s along x; three clusters of 10 pixels: one on it whose

@@ -100,19 +100,19 @@ bool axis_information(Track& tr, const std::vector<std::uint32_t>& pixels, const
   if (tr.walker || tr.small(p) || pixels.empty() || tr.velocity().norm() <= p.small.walker_max_speed_mps) return false;
   const OutlineAxis a = outline_axis(pixels, frame, p.heading);
   if (!a.informative) return false;
-  tr.axis_seen = true;
   const TrackerParams::Heading& ph = p.heading;
   const Eigen::Vector2d n(-a.axis.y(), a.axis.x());
-  const double cut = tr.outline_cut ? ph.cut_sigma_factor : 1.0;
-  const double range = (a.at - frame.position).norm();
-  const double end = ph.end_sigma_per_m * range / a.length_m;
-  const double heading_var = cut * cut * (ph.sigma_rad * ph.sigma_rad + end * end);
+  const double heading_var = axis_heading_variance(a, frame.position, tr.outline_cut, ph);
   const double speed = tr.velocity().norm();
   const double lateral = ph.centre_offset_fraction * a.length_m * std::abs(tr.yaw_rate());
   const double var = speed * speed * heading_var + ph.slip_sigma_mps * ph.slip_sigma_mps + lateral * lateral;
-  // Huber-weighted beyond 3 standard deviations of the innovation, as the centre is.
   const double innovation = -n.dot(tr.velocity());
   const double spread = std::sqrt(n.dot(tr.P.block<2, 2>(2, 2) * n) + var);
+  // An axis this far off the track's heading is another shape's (a far car's few columns read
+  // the wrong way): not measured in this update. Within it, Huber-weighted beyond 3 standard
+  // deviations of the innovation, as the centre is.
+  if (ph.gate_sigmas > 0.0 && std::abs(innovation) > ph.gate_sigmas * spread) return false;
+  tr.axis_seen = true;
   const double w = std::min(1.0, 3.0 * spread / std::max(std::abs(innovation), 1e-12)) / var;
   info.block<2, 2>(2, 2) += w * n * n.transpose();
   grad.segment<2>(2) += w * n * innovation;

@@ -31,4 +31,8 @@ struct OutlineAxis {
 /// in 3 degree steps over a quarter turn, then in 0.25 degree steps about the best.
 OutlineAxis outline_axis(const std::vector<std::uint32_t>& pixels, const Frame& frame, const TrackerParams::Heading& p);
 
+/// The variance of the heading the axis measures [rad^2] (TrackerParams::Heading), seen from
+/// the sensor (tracker world); cut: the view or an occluder cuts the outline.
+double axis_heading_variance(const OutlineAxis& a, const Eigen::Vector2d& sensor, bool cut, const TrackerParams::Heading& p);
+
 }  // namespace fmcw::core::tracking

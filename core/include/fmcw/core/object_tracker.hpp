@@ -120,18 +120,28 @@ struct TrackerParams {
   /// min_aspect times the short side (a square-ish outline says nothing). The noise of the
   /// velocity across the axis: the speed times the heading's noise, a slip, and the lateral
   /// velocity of the box's centre in a turn (a car turns about its rear axle: |omega| times
-  /// centre_offset_fraction of its length). The heading's noise: sigma_rad, and the scatter of
-  /// the outline's ends (end_sigma_per_m of the range, about a pixel's width) over its length;
-  /// times cut_sigma_factor where the view or an occluder cuts the outline.
+  /// centre_offset_fraction of its length). The heading's noise, from the axis's measured errors
+  /// (docs/METHODS.md, "The outline's axis"): sigma_rad (near_sigma_rad where the range is less
+  /// than near_range_lengths times the length: a long body alongside, its outline spanning a
+  /// wide angle), and the scatter of the outline's ends (end_sigma_per_m of the range) over its
+  /// length, times |cos| of the angle between the axis and the line of sight (a side seen
+  /// end-on shows its direction through the lateral offsets of its points, which scatter by
+  /// about that much; seen broadside, through their ranges, far finer); all times cut_sigma_factor where
+  /// the view or an occluder cuts the outline. An axis whose innovation exceeds gate_sigmas
+  /// standard deviations (the track's own and the measurement's) is not measured in that update
+  /// (0: never dropped).
   struct Heading {
     bool use_outline = true;            ///< false: the outline's axis is not measured
     double min_length_m = 3.0;          ///< [m]
     double min_aspect = 1.5;
-    double sigma_rad = 0.015;           ///< [rad]
-    double end_sigma_per_m = 0.004;     ///< [m per m of range]
+    double sigma_rad = 0.006;           ///< [rad]
+    double end_sigma_per_m = 0.002;     ///< [m per m of range]
+    double near_sigma_rad = 0.015;      ///< [rad]
+    double near_range_lengths = 2.0;
     double cut_sigma_factor = 1.5;
     double slip_sigma_mps = 0.2;        ///< [m/s]
     double centre_offset_fraction = 0.25;
+    double gate_sigmas = 4.0;
   } heading;
 
   /// A track starts turning (its velocity reported at its centre with the yaw rate) when
