@@ -483,9 +483,9 @@ TEST(TrackingOutlineAxis, ItsHeadingIsFinerBroadsideThanEndOnAndCoarsestAlongsid
   // The noise the tracker states for the heading an axis measures (axis_heading_variance). A
   // car 30 m away seen broadside: its side's direction comes from its points' ranges, and the
   // noise is sigma_rad. The same car turned 25 degrees off the line of sight: from their lateral
-  // offsets, a pixel's width apart, end_sigma_per_m of the range over the length, times the
-  // cosine. A bus alongside, nearer than two of its lengths: near_sigma_rad. Each measured axis
-  // is within its stated noise of the known heading.
+  // offsets, which scatter by end_sigma_per_m of the range, over the length, times the cosine.
+  // A bus alongside, nearer than two of its lengths: near_sigma_rad. Each measured axis is within
+  // 1.96 of its stated noise of the known heading.
   const TrackerParams::Heading p;
   const double bearing = 10.0 * M_PI / 180.0;
   const Eigen::Vector2d at30 = 30.0 * Eigen::Vector2d(std::cos(bearing), std::sin(bearing));

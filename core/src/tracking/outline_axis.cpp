@@ -124,13 +124,15 @@ OutlineAxis outline_axis(const std::vector<std::uint32_t>& pixels, const Frame& 
   return out;
 }
 
-double axis_heading_variance(const OutlineAxis& a, const Eigen::Vector2d& sensor, bool cut, const TrackerParams::Heading& p) {
+double axis_heading_variance(const OutlineAxis& a, const Eigen::Vector2d& sensor, bool cut,
+                             const TrackerParams::Heading& p) {
   const Eigen::Vector2d sight = a.at - sensor;
   const double range = sight.norm();
   // The ends' scatter over the length, as far as the side is seen end-on.
   double end = p.end_sigma_per_m * range / a.length_m;
   end *= std::abs(a.axis.dot(sight.normalized()));
-  const double floor = range / a.length_m < p.near_range_lengths ? std::max(p.sigma_rad, p.near_sigma_rad) : p.sigma_rad;
+  const double floor =
+      range / a.length_m < p.near_range_lengths ? std::max(p.sigma_rad, p.near_sigma_rad) : p.sigma_rad;
   const double factor = cut ? p.cut_sigma_factor : 1.0;
   return factor * factor * (floor * floor + end * end);
 }

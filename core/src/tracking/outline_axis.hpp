@@ -33,6 +33,7 @@ OutlineAxis outline_axis(const std::vector<std::uint32_t>& pixels, const Frame& 
 
 /// The variance of the heading the axis measures [rad^2] (TrackerParams::Heading), seen from
 /// the sensor (tracker world); cut: the view or an occluder cuts the outline.
-double axis_heading_variance(const OutlineAxis& a, const Eigen::Vector2d& sensor, bool cut, const TrackerParams::Heading& p);
+double axis_heading_variance(const OutlineAxis& a, const Eigen::Vector2d& sensor, bool cut,
+                             const TrackerParams::Heading& p);
 
 }  // namespace fmcw::core::tracking

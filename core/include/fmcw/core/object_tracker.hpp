@@ -126,10 +126,10 @@ struct TrackerParams {
   /// wide angle), and the scatter of the outline's ends (end_sigma_per_m of the range) over its
   /// length, times |cos| of the angle between the axis and the line of sight (a side seen
   /// end-on shows its direction through the lateral offsets of its points, which scatter by
-  /// about that much; seen broadside, through their ranges, far finer); all times cut_sigma_factor where
-  /// the view or an occluder cuts the outline. An axis whose innovation exceeds gate_sigmas
-  /// standard deviations (the track's own and the measurement's) is not measured in that update
-  /// (0: never dropped).
+  /// about that much; seen broadside, through their ranges, far finer); all times
+  /// cut_sigma_factor where the view or an occluder cuts the outline. An axis whose innovation
+  /// exceeds gate_sigmas standard deviations (the track's own and the measurement's) is not
+  /// measured in that update (0: never dropped).
   struct Heading {
     bool use_outline = true;            ///< false: the outline's axis is not measured
     double min_length_m = 3.0;          ///< [m]
