@@ -93,6 +93,7 @@ void TrackerParams::validate() const {
   tu.non_negative("settle_updates", turning.settle_updates);
   tu.non_negative("settle_growth_m", turning.settle_growth_m);
   tu.non_negative("release_hold_updates", turning.release_hold_updates);
+  tu.non_negative("hold_rate_fraction (0: never)", turning.hold_rate_fraction);
   const FieldCheck h{"heading"};
   h.positive("min_length_m", heading.min_length_m);
   h.at_least("min_aspect", heading.min_aspect, 1.0);

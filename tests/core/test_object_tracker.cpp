@@ -805,6 +805,10 @@ TEST(ObjectTracker, RejectsBadParametersNamingTheField) {
       {[](TrackerParams& p) { p.turning.settle_updates = -1; }, "tracking.turning.settle_updates must be >= 0, got -1"},
       {[](TrackerParams& p) { p.turning.settle_growth_m = -0.1; }, "tracking.turning.settle_growth_m must be >= 0, got -0.1"},
       {[](TrackerParams& p) { p.turning.release_hold_updates = -2; }, "tracking.turning.release_hold_updates must be >= 0, got -2"},
+      {[](TrackerParams& p) { p.turning.hold_rate_fraction = -0.8; },
+       "tracking.turning.hold_rate_fraction (0: never) must be >= 0, got -0.8"},
+      {[](TrackerParams& p) { p.turning.hold_rate_fraction = std::nan(""); },
+       "tracking.turning.hold_rate_fraction (0: never) must be >= 0, got nan"},
       {[](TrackerParams& p) { p.fragments.own_motion_hits = -1; }, "tracking.fragments.own_motion_hits (0: never) must be >= 0, got -1"},
   };
   for (const auto& [set, expected] : cases) {

@@ -20,6 +20,7 @@
 #include "tracking/ctrv.hpp"
 #include "tracking/measurement.hpp"
 #include "tracking/outline_axis.hpp"
+#include "tracking/relabel.hpp"
 #include "tracking/track_birth.hpp"
 #include "tracking/track_box.hpp"
 
@@ -543,6 +544,117 @@ TEST(TrackingOutlineAxis, AnAxisFarOffTheTracksHeadingIsNotMeasured) {
   no_gate.heading.gate_sigmas = 0.0;
   EXPECT_TRUE(measured(sure_along_x(), skew, skew_frame, no_gate));
   EXPECT_TRUE(measured(sure_along_x(), along, along_frame, TrackerParams{}));
+}
+
+// ---- A turn released while its rate holds up -----------------------------------------------
+
+TEST(TrackingTurning, ATurnReleasedWhileItsRateHoldsUpIsHeldAndOneThatEndsIsNot) {
+  // A cyclist's track turning at 0.2 rad/s, resolved at 0.05 rad/s of sigma; then its position
+  // updates are down-weighted (its box cut by the view) and sigma grows to 0.12: below
+  // turn_release_significance (2) sigma, the turn is released while the rate holds. Held as
+  // long as the rate keeps its sign and at least hold_rate_fraction (0.8) of the last turning
+  // one, for release_hold_updates (30) updates; a rate that falls (the turn ends, the filter
+  // lagging) is not held.
+  const TrackerParams p;
+  Track tr;
+  tr.hits = 10;
+  tr.length_m = 1.8;
+  tr.width_m = 0.6;
+  tr.x(4) = 0.2;
+  tr.P(4, 4) = 0.05 * 0.05;
+  update_turning(tr, p);
+  ASSERT_TRUE(tr.turning);
+  EXPECT_EQ(tr.last_turn_rate_rps, 0.2);
+  EXPECT_FALSE(turn_held(tr, p));  // turning: reported as a turn, not held
+  tr.P(4, 4) = 0.12 * 0.12;
+  update_turning(tr, p);
+  ASSERT_FALSE(tr.turning);
+  EXPECT_EQ(tr.updates_since_turn, 1);
+  EXPECT_TRUE(turn_held(tr, p));
+  const auto held_at = [&](double w) {
+    Track t = tr;
+    t.x(4) = w;
+    return turn_held(t, p);
+  };
+  EXPECT_TRUE(held_at(0.161));   // 0.8 of 0.2 is 0.16
+  EXPECT_FALSE(held_at(0.159));  // the rate falls: the turn ends
+  EXPECT_FALSE(held_at(-0.2));   // the other way
+  TrackerParams never = p;
+  never.turning.hold_rate_fraction = 0.0;
+  EXPECT_FALSE(turn_held(tr, never));
+  for (int k = 1; k < p.turning.release_hold_updates; ++k) update_turning(tr, p);
+  EXPECT_EQ(tr.updates_since_turn, p.turning.release_hold_updates);
+  EXPECT_TRUE(turn_held(tr, p));
+  update_turning(tr, p);
+  EXPECT_FALSE(turn_held(tr, p));  // held no longer than the hold
+  // A track that never turned is not held.
+  Track straight;
+  straight.hits = 10;
+  straight.x(4) = 0.2;
+  straight.P(4, 4) = 0.12 * 0.12;
+  update_turning(straight, p);
+  EXPECT_FALSE(straight.turning);
+  EXPECT_FALSE(turn_held(straight, p));
+}
+
+TEST(TrackingTurning, AHeldTurnIsTakenOffTheReportedVelocity) {
+  // The cyclist 6.5 m away, its filter's state the truth: centre velocity v, turning at 0.2
+  // rad/s with 0.12 rad/s of sigma, just released. Its Doppler shows v + w z x (o - c), the
+  // beams' origin o 5.2 m from its centre: 1.04 m/s off v across the line of sight. Held, the
+  // report takes off w^3 / (w^2 + sigma^2) of the rate (0.147 rad/s) and is within 0.4 m/s of
+  // v; not held (hold_rate_fraction 0) it reports the Doppler's velocity, the turn left in.
+  const Eigen::Vector2d centre(6.0, -2.5);
+  const double yaw = 0.5, w = 0.2, sigma = 0.12;
+  const AxisCase c = render_box(centre, 1.8, 0.6, yaw);
+  ASSERT_GT(c.pixels.size(), 20u);
+  const ScanBeams beams(c.rendered.scan);
+  const Frame frame = standing_frame(c.rendered.scan, beams);
+  const Eigen::Vector2d v = 5.0 * Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
+  Track tr;
+  tr.id = 1;
+  tr.hits = 20;
+  tr.confirmed = true;
+  tr.length_m = 1.8;
+  tr.width_m = 0.6;
+  tr.x << centre.x(), centre.y(), v.x(), v.y(), w;
+  tr.P = Mat5::Identity() * 0.01;
+  tr.P(4, 4) = sigma * sigma;
+  tr.updates_since_turn = 1;
+  tr.last_turn_rate_rps = 0.21;
+  Group g;
+  g.found = c.pixels;
+  g.clusters = {1};
+  const auto report = [&](const TrackerParams& p) {
+    MotionEstimate est;
+    est.labels.assign(c.rendered.scan.size(), 0);
+    for (const std::uint32_t i : c.pixels) est.labels[i] = 1;
+    ClusterEstimate ce;
+    ce.id = 1;
+    ce.num_pixels = static_cast<int>(c.pixels.size());
+    ce.velocity.valid = true;
+    est.clusters.push_back(ce);
+    const std::vector<Group> groups{g};
+    relabel_estimate(frame, {tr}, groups, group_of_labels(groups, 1), {}, p, est);
+    EXPECT_EQ(est.clusters.size(), 1u);
+    return est.clusters.front();
+  };
+  const TrackerParams held;
+  ASSERT_TRUE(turn_held(tr, held));
+  TrackerParams not_held;
+  not_held.turning.hold_rate_fraction = 0.0;
+  const ClusterEstimate a = report(held), b = report(not_held);
+  const Eigen::Vector2d d = mean_origin(frame, g) - centre;
+  const Eigen::Vector2d s(-d.y(), d.x());  // z x (o - c)
+  const double taken = w * w * w / (w * w + sigma * sigma);
+  EXPECT_NEAR(a.yaw_rate_rps, taken, 1e-12);
+  EXPECT_LT((a.velocity.velocity_mps.head<2>() - (v + (w - taken) * s)).norm(), 1e-9);
+  EXPECT_LT((a.velocity.velocity_mps.head<2>() - v).norm(), 0.4);
+  EXPECT_EQ(b.yaw_rate_rps, 0.0);
+  EXPECT_LT((b.velocity.velocity_mps.head<2>() - (v + w * s)).norm(), 1e-9);
+  EXPECT_GT((b.velocity.velocity_mps.head<2>() - v).norm(), 1.0);
+  // What is left of the rate is in the covariance: the error is within its 95 % ellipse.
+  const Eigen::Vector2d e = a.velocity.velocity_mps.head<2>() - v;
+  EXPECT_LT(e.dot(a.velocity.covariance.topLeftCorner<2, 2>().ldlt().solve(e)), 5.991);
 }
 
 // ---- Association gating -------------------------------------------------------------------

@@ -189,13 +189,26 @@ bool settled(const Track& tr, const TrackerParams& p) {
          tr.updates_since_turn > pt.release_hold_updates;
 }
 
+bool turn_held(const Track& tr, const TrackerParams& p) {
+  const TrackerParams::Turning& pt = p.turning;
+  const double w = tr.yaw_rate();
+  const double last = tr.last_turn_rate_rps;
+  return pt.hold_rate_fraction > 0.0 && !tr.turning &&
+         tr.updates_since_turn <= pt.release_hold_updates && w * last > 0.0 &&
+         std::abs(w) >= pt.hold_rate_fraction * std::abs(last);
+}
+
 void update_turning(Track& tr, const TrackerParams& p) {
   const TrackerParams::Turning& pt = p.turning;
   const double w = std::abs(tr.yaw_rate());
   const double w_sigma = std::sqrt(std::max(0.0, tr.P(4, 4)));
   const auto track_since = [&tr] {
-    if (tr.turning) tr.updates_since_turn = 0;
-    else if (tr.updates_since_turn != Track::kNever) ++tr.updates_since_turn;
+    if (tr.turning) {
+      tr.updates_since_turn = 0;
+      tr.last_turn_rate_rps = tr.yaw_rate();
+    } else if (tr.updates_since_turn != Track::kNever) {
+      ++tr.updates_since_turn;
+    }
   };
   // A track whose outline's axis was measured in this update reports its yaw rate shrunk by its
   // significance instead (relabel.cpp), at any age and rate.

@@ -27,6 +27,10 @@ void note_extent(Track& tr, const TrackerParams& p, bool born);
 /// Its box has settled: the yaw rate its path gives is the body's (Turning::shrink_settled).
 bool settled(const Track& tr, const TrackerParams& p);
 
+/// Not turning, but its turn was released while its rate held up (Turning::hold_rate_fraction):
+/// the yaw rate it holds is the body's.
+bool turn_held(const Track& tr, const TrackerParams& p);
+
 /// The outline's axis of the pixels (TrackerParams::Heading), where it is informative and the
 /// track is no walker, not small and faster than a walker, as a measurement of the velocity's direction: its information
 /// and gradient at the track's state are added. Sets Track::axis_seen; returns it.

@@ -58,15 +58,16 @@ void report_track(const Frame& frame, const Track& tr, const Group& g, const Mot
     // yaw rate taken as 0 here is off by the track's own (with its variance), and each rad/s of
     // it moves the centre's velocity by |o - c| m/s across the line of sight.
     const Eigen::Vector2d s = J.col(2);
-    // A track whose outline's axis has been measured, or whose box has settled (its path is
-    // then the body's: settled()), knows its yaw rate as well as its variance says: the yaw
-    // rate, shrunk by its significance (w^2 / (w^2 + k^2 sigma^2) of it: all of a resolved
-    // turn, little of one within its noise), is taken off, and what is left of it is what the
-    // covariance carries.
+    // A track whose outline's axis has been measured, whose box has settled (its path is then
+    // the body's: settled()), or whose turn was released while its rate held up (turn_held())
+    // knows its yaw rate as well as its variance says: the yaw rate, shrunk by its significance
+    // (w^2 / (w^2 + k^2 sigma^2) of it: all of a resolved turn, little of one within its
+    // noise), is taken off, and what is left of it is what the covariance carries.
     const double w = tr.x(4);
     const double k = p.turning.axis_shrink_sigmas;
     const double w2 = w * w + k * k * tr.P(4, 4);
-    const double taken = (tr.axis_seen || settled(tr, p)) && w2 > 0.0 ? w * w * w / w2 : 0.0;
+    const bool known = tr.axis_seen || settled(tr, p) || turn_held(tr, p);
+    const double taken = known && w2 > 0.0 ? w * w * w / w2 : 0.0;
     vel -= taken * s;
     cov = J * tr.P.block<3, 3>(2, 2) * J.transpose() + tr.P(4, 4) * s * s.transpose();
     left_in = (w - taken) * (w - taken) * s * s.transpose();

@@ -173,6 +173,13 @@ struct TrackerParams {
     int settle_updates = 5;
     double settle_growth_m = 0.2;  ///< [m]
     int release_hold_updates = 30;
+    /// A turn released while its rate holds up: within release_hold_updates updates of its last
+    /// turning update, a track whose yaw rate still has that update's sign and at least
+    /// hold_rate_fraction of its size was released because the rate's variance grew (the box
+    /// of a near cyclist cut by the view), not because the turn ended (the filter's rate then
+    /// falls, lagging the body's). It reports its yaw rate shrunk by its significance, as a
+    /// settled track does, not 0. 0: never.
+    double hold_rate_fraction = 0.8;
   } turning;
 
   /// Association of clusters to tracks.
@@ -343,6 +350,8 @@ struct Track {
   /// Updates since it was last turning; kNever if it has not turned.
   int updates_since_turn = kNever;
   static constexpr int kNever = std::numeric_limits<int>::max();
+  /// The yaw rate at its last turning update [rad/s] (TrackerParams::Turning::hold_rate_fraction).
+  double last_turn_rate_rps = 0.0;
   /// Length plus width when the box last grew by more than Turning::settle_growth_m (or
   /// shrank), and the updates since (TrackerParams::Turning::shrink_settled).
   double settled_extent_m = 0.0;
