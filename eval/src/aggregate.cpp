@@ -53,6 +53,7 @@ std::vector<NamedValue> metrics_of(const MethodSummary& s, const ErrorStats& all
       rate("mean_nees", s.tails.calibration.mean_nees),
       rate("mota", s.tracking.all.mota),
       rate("idf1", s.tracking.all.idf1),
+      rate("hota", s.tracking.all.hota),
       count("id_switches", s.tracking.all.id_switches),
       rate("instance_precision", s.instance_precision),
       rate("instance_recall", s.instance_recall),
@@ -79,8 +80,8 @@ void finish(CalibrationStats& c) {
   c.mean_nees = ratio(c.mean_nees, c.scored);
   c.mean_dof = ratio(c.mean_dof, c.scored);
 }
-// Pooled tracking: CLEAR MOT's and IDF1's counts add over runs (an actor of one run is never one
-// of another).
+// Pooled tracking: CLEAR MOT's, IDF1's and HOTA's counts add over runs (an actor of one run is
+// never one of another).
 void add_counts(MotMetrics& sum, const MotMetrics& x) {
   sum.objects += x.objects;
   sum.hypotheses += x.hypotheses;
@@ -90,6 +91,13 @@ void add_counts(MotMetrics& sum, const MotMetrics& x) {
   sum.id_switches += x.id_switches;
   sum.fragmentations += x.fragmentations;
   sum.idtp += x.idtp;
+  for (std::size_t k = 0; k < static_cast<std::size_t>(MotMetrics::kHotaAlphas); ++k) {
+    sum.hota_tp[k] += x.hota_tp[k];
+    sum.hota_fn[k] += x.hota_fn[k];
+    sum.hota_fp[k] += x.hota_fp[k];
+    sum.hota_assoc[k] += x.hota_assoc[k];
+    sum.hota_iou[k] += x.hota_iou[k];
+  }
   if (x.matches > 0) {
     sum.motp_m += x.motp_m * x.matches;
     sum.motp_iou += x.motp_iou * x.matches;

@@ -1,6 +1,7 @@
 #include "fmcw/eval/tracking_metrics.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -174,6 +175,72 @@ int identity_true_positives(const std::map<std::pair<std::uint32_t, std::int64_t
   return idtp;
 }
 
+// HOTA's counts and sums (Luiten et al. 2021, as TrackEval computes them). Each object and
+// hypothesis pair's alignment over the run: the sum over frames of their IoU over the union of
+// both rows of the frame's IoU matrix, over the frames either is present in less that sum. Per
+// frame the pairs are matched by the Hungarian method on alignment times IoU; a match counts at
+// alpha where its IoU is at least alpha. A match's A is its pair's matches at alpha over the
+// frames either is present in, less those matches.
+void hota_sums(const std::vector<TrackingFrame>& frames, MotMetrics& s) {
+  using Pair = std::pair<std::uint32_t, std::int64_t>;
+  const auto pair_of = [](const TrackingFrame& f, const PointOverlap& o) {
+    return Pair{f.truths[static_cast<std::size_t>(o.truth)].actor_id, f.tracks[static_cast<std::size_t>(o.track)].track};
+  };
+  std::map<std::uint32_t, int> object_frames;
+  std::map<std::int64_t, int> track_frames;
+  std::map<Pair, double> potential;
+  for (const TrackingFrame& f : frames) {
+    for (const TruthObservation& t : f.truths) ++object_frames[t.actor_id];
+    for (const TrackObservation& h : f.tracks) ++track_frames[h.track];
+    std::vector<double> row(f.truths.size(), 0.0), col(f.tracks.size(), 0.0);
+    for (const PointOverlap& o : f.overlaps) {
+      row[static_cast<std::size_t>(o.truth)] += f.iou(o);
+      col[static_cast<std::size_t>(o.track)] += f.iou(o);
+    }
+    for (const PointOverlap& o : f.overlaps) {
+      const double iou = f.iou(o);
+      const double union_sum = row[static_cast<std::size_t>(o.truth)] + col[static_cast<std::size_t>(o.track)] - iou;
+      if (union_sum > 0.0) potential[pair_of(f, o)] += iou / union_sum;
+    }
+  }
+  const auto alignment = [&](const Pair& p) {
+    const auto it = potential.find(p);
+    if (it == potential.end()) return 0.0;
+    return it->second / (object_frames.at(p.first) + track_frames.at(p.second) - it->second);
+  };
+  constexpr auto kAlphas = static_cast<std::size_t>(MotMetrics::kHotaAlphas);
+  std::array<std::map<Pair, int>, kAlphas> together;
+  for (const TrackingFrame& f : frames) {
+    std::vector<std::vector<double>> w(f.truths.size(), std::vector<double>(f.tracks.size(), 0.0));
+    for (const PointOverlap& o : f.overlaps) {
+      w[static_cast<std::size_t>(o.truth)][static_cast<std::size_t>(o.track)] = alignment(pair_of(f, o)) * f.iou(o);
+    }
+    const std::vector<int> match = max_weight_assignment(w);
+    std::vector<double> iou(f.truths.size(), 0.0);
+    for (const PointOverlap& o : f.overlaps) {
+      if (match[static_cast<std::size_t>(o.truth)] == o.track) iou[static_cast<std::size_t>(o.truth)] = f.iou(o);
+    }
+    for (std::size_t k = 0; k < kAlphas; ++k) {
+      const double alpha = MotMetrics::hota_alpha(static_cast<int>(k)) - 1e-12;
+      int tp = 0;
+      for (std::size_t i = 0; i < f.truths.size(); ++i) {
+        if (match[i] < 0 || iou[i] < alpha) continue;
+        ++tp;
+        s.hota_iou[k] += iou[i];
+        ++together[k][{f.truths[i].actor_id, f.tracks[static_cast<std::size_t>(match[i])].track}];
+      }
+      s.hota_tp[k] += tp;
+      s.hota_fn[k] += static_cast<int>(f.truths.size()) - tp;
+      s.hota_fp[k] += static_cast<int>(f.tracks.size()) - tp;
+    }
+  }
+  for (std::size_t k = 0; k < kAlphas; ++k) {
+    for (const auto& [p, n] : together[k]) {
+      s.hota_assoc[k] += n * static_cast<double>(n) / (object_frames.at(p.first) + track_frames.at(p.second) - n);
+    }
+  }
+}
+
 MotMetrics score(const std::vector<TrackingFrame>& frames, double threshold) {
   MotMetrics s;
   std::map<std::uint32_t, std::int64_t> last_track;  // object -> track it last matched
@@ -234,6 +301,7 @@ MotMetrics score(const std::vector<TrackingFrame>& frames, double threshold) {
   s.motp_m = distance_sum;
   s.motp_iou = iou_sum;
   s.idtp = identity_true_positives(together);
+  hota_sums(frames, s);
   complete_mot(s);
   return s;
 }
@@ -272,6 +340,30 @@ void complete_mot(MotMetrics& s) {
   s.idf1 = ratio(2.0 * s.idtp, static_cast<double>(s.objects + s.hypotheses));
   s.idp = ratio(s.idtp, s.hypotheses);
   s.idr = ratio(s.idtp, s.objects);
+  // HOTA: per alpha DetA = TP / (TP + FN + FP), AssA = the matches' mean A (0 without matches),
+  // HOTA = sqrt(DetA AssA); each the mean over the alphas.
+  if (s.objects + s.hypotheses == 0) {
+    s.hota = s.deta = s.assa = s.loca = kNaN;
+    return;
+  }
+  double hota = 0.0, deta = 0.0, assa = 0.0, loca = 0.0;
+  int with_matches = 0;
+  for (std::size_t k = 0; k < static_cast<std::size_t>(MotMetrics::kHotaAlphas); ++k) {
+    const int tp = s.hota_tp[k];
+    const double det = static_cast<double>(tp) / (tp + s.hota_fn[k] + s.hota_fp[k]);
+    const double ass = tp > 0 ? s.hota_assoc[k] / tp : 0.0;
+    deta += det;
+    assa += ass;
+    hota += std::sqrt(det * ass);
+    if (tp > 0) {
+      loca += s.hota_iou[k] / tp;
+      ++with_matches;
+    }
+  }
+  s.hota = hota / MotMetrics::kHotaAlphas;
+  s.deta = deta / MotMetrics::kHotaAlphas;
+  s.assa = assa / MotMetrics::kHotaAlphas;
+  s.loca = with_matches > 0 ? loca / with_matches : kNaN;
 }
 
 MotReport clear_mot(const std::vector<TrackingFrame>& frames, const MotParams& params) {

@@ -82,7 +82,8 @@ TEST_F(EvalCli, EvaluateWritesEveryDocumentedKeyAndFigure) {
                           "calibration_by_class", "calibration_by_track_age"}) {
       EXPECT_TRUE(x.at("objects").contains(k)) << k;
     }
-    for (const char* k : {"mota", "motp_m", "id_switches", "fragmentations", "idf1", "by_class", "vehicles"}) {
+    for (const char* k : {"mota", "motp_m", "id_switches", "fragmentations", "idf1", "hota", "deta", "assa", "loca",
+                          "by_class", "vehicles"}) {
       EXPECT_TRUE(x.at("tracking").contains(k)) << k;
     }
     for (const char* k : {"clustering", "ego", "objects", "total"}) EXPECT_TRUE(x.at("timing_ms").contains(k)) << k;
@@ -93,6 +94,7 @@ TEST_F(EvalCli, EvaluateWritesEveryDocumentedKeyAndFigure) {
   }
   for (const auto& [key, file] : m.at("files").items()) EXPECT_TRUE(fs::is_regular_file(rep / file.get<std::string>())) << key;
   EXPECT_EQ(expect_report_figures(rep), 9);  // with the error CDF
+  EXPECT_NE(slurp(rep / "report.html").find("HOTA (DetA / AssA / LocA)"), std::string::npos);
   // Per frame and method.
   std::istringstream frames(slurp(rep / "frames.csv"));
   std::string line;

@@ -1,4 +1,4 @@
-// CLEAR MOT and IDF1 on hand-made track sequences with known answers, the assignment they use,
+// CLEAR MOT, IDF1 and HOTA on hand-made track sequences with known answers, the assignment they use,
 // and the calibration score (NEES) on estimates drawn from their own covariance.
 
 #include <gtest/gtest.h>
@@ -120,6 +120,125 @@ TEST(ClearMot, KeepsALastingCorrespondenceOverABetterNewOne) {
   const MotMetrics m = clear_mot(frames).all;
   EXPECT_EQ(m.id_switches, 0);
   EXPECT_EQ(m.false_positives, 1);  // track 8
+}
+
+// ---- HOTA ----------------------------------------------------------------------------------
+
+// DetA and AssA at one localisation threshold alpha = (k + 1) / 20.
+double deta_at(const MotMetrics& m, int k) {
+  const auto i = static_cast<std::size_t>(k);
+  return static_cast<double>(m.hota_tp[i]) / (m.hota_tp[i] + m.hota_fn[i] + m.hota_fp[i]);
+}
+double assa_at(const MotMetrics& m, int k) {
+  const auto i = static_cast<std::size_t>(k);
+  return m.hota_tp[i] > 0 ? m.hota_assoc[i] / m.hota_tp[i] : 0.0;
+}
+
+TEST(Hota, PerfectTrackingScoresOne) {
+  std::vector<TrackingFrame> frames;
+  for (int k = 0; k < 10; ++k) frames.push_back(frame({1, 2}, {7, 8}, {{1, 7, 1.0}, {2, 8, 1.0}}));
+  const MotMetrics m = clear_mot(frames).all;
+  EXPECT_DOUBLE_EQ(m.hota, 1.0);
+  EXPECT_DOUBLE_EQ(m.deta, 1.0);
+  EXPECT_DOUBLE_EQ(m.assa, 1.0);
+  EXPECT_DOUBLE_EQ(m.loca, 1.0);
+}
+
+TEST(Hota, ASwitchHalvesTheAssociationNotTheDetection) {
+  // Object 1 over 10 frames, track 7 for five and track 8 for five: each match's pair is
+  // together 5 of the 10 + 5 - 5 frames either is present, A = 0.5.
+  std::vector<TrackingFrame> frames;
+  for (int k = 0; k < 10; ++k) frames.push_back(frame({1}, {k < 5 ? 7 : 8}, {{1, k < 5 ? 7 : 8, 1.0}}));
+  const MotMetrics m = clear_mot(frames).all;
+  EXPECT_DOUBLE_EQ(m.deta, 1.0);
+  EXPECT_DOUBLE_EQ(m.assa, 0.5);
+  EXPECT_NEAR(m.hota, std::sqrt(0.5), 1e-12);
+  // A new track id every frame: A = 1 / 4 for each of the four matches.
+  std::vector<TrackingFrame> untracked;
+  for (int k = 0; k < 4; ++k) untracked.push_back(frame({1}, {-(k + 1)}, {{1, -(k + 1), 1.0}}));
+  const MotMetrics u = clear_mot(untracked).all;
+  EXPECT_DOUBLE_EQ(u.deta, 1.0);
+  EXPECT_DOUBLE_EQ(u.assa, 0.25);
+  EXPECT_DOUBLE_EQ(u.hota, 0.5);
+}
+
+TEST(Hota, AMatchCountsAtTheThresholdsItsIouReaches) {
+  // IoU 67 / 133 = 0.504 in every frame: a match at alpha = 0.05 ... 0.50 (10 of the 19), a miss
+  // and a false positive above. A false track in three frames costs DetA there.
+  std::vector<TrackingFrame> frames;
+  for (int k = 0; k < 10; ++k) frames.push_back(frame({1}, {7}, {{1, 7, 0.504}}));
+  const MotMetrics m = clear_mot(frames).all;
+  const double iou = 67.0 / 133.0;
+  EXPECT_EQ(m.hota_tp[9], 10);   // alpha 0.50
+  EXPECT_EQ(m.hota_tp[10], 0);   // alpha 0.55
+  EXPECT_EQ(m.hota_fn[10], 10);
+  EXPECT_EQ(m.hota_fp[10], 10);
+  EXPECT_NEAR(m.hota, 10.0 / 19.0, 1e-12);
+  EXPECT_NEAR(m.deta, 10.0 / 19.0, 1e-12);
+  EXPECT_NEAR(m.assa, 10.0 / 19.0, 1e-12);
+  EXPECT_NEAR(m.loca, iou, 1e-12);
+  std::vector<TrackingFrame> with_false;
+  for (int k = 0; k < 10; ++k) {
+    const std::vector<std::int64_t> tracks = k < 3 ? std::vector<std::int64_t>{7, 9} : std::vector<std::int64_t>{7};
+    with_false.push_back(frame({1}, tracks, {{1, 7, 1.0}}));
+  }
+  const MotMetrics f = clear_mot(with_false).all;
+  EXPECT_DOUBLE_EQ(f.deta, 10.0 / 13.0);
+  EXPECT_DOUBLE_EQ(f.assa, 1.0);
+  EXPECT_NEAR(f.hota, std::sqrt(10.0 / 13.0), 1e-12);
+}
+
+TEST(Hota, AFramesMatchFollowsThePairAlignedOverTheRun) {
+  // Object 1 with track 7 for four frames (IoU 0.8); in the fifth, track 7 at IoU 0.6 and a
+  // new track 8 at 0.8. Matched by IoU alone it would take track 8; HOTA weighs each pair by
+  // its alignment over the run and keeps track 7: every match's pair is (1, 7), A = 5 / 5.
+  std::vector<TrackingFrame> frames;
+  for (int k = 0; k < 4; ++k) frames.push_back(frame({1}, {7}, {{1, 7, 0.8}}));
+  frames.push_back(frame({1}, {7, 8}, {{1, 7, 0.6}, {1, 8, 0.8}}));
+  const MotMetrics m = clear_mot(frames).all;
+  for (int k = 0; k <= 11; ++k) {  // alpha up to 0.60: all five frames matched, to track 7
+    EXPECT_EQ(m.hota_tp[static_cast<std::size_t>(k)], 5) << k;
+    EXPECT_EQ(m.hota_fp[static_cast<std::size_t>(k)], 1) << k;  // track 8
+    EXPECT_DOUBLE_EQ(assa_at(m, k), 1.0) << k;
+    EXPECT_DOUBLE_EQ(deta_at(m, k), 5.0 / 6.0) << k;
+  }
+  // Above 0.60 the fifth frame's match (IoU 0.6) no longer counts: track 7's A is 4 / (5 + 5 -
+  // 4).
+  EXPECT_EQ(m.hota_tp[12], 4);
+  EXPECT_DOUBLE_EQ(assa_at(m, 12), 4.0 / 6.0);
+}
+
+TEST(Hota, RunsPoolByAddingTheirCounts) {
+  // Two runs with no object or track in common: their counts added give the HOTA of both
+  // sequences as one.
+  std::vector<TrackingFrame> a, b;
+  for (int k = 0; k < 10; ++k) a.push_back(frame({1}, {k < 5 ? 7 : 8}, {{1, k < 5 ? 7 : 8, 0.8}}));
+  for (int k = 0; k < 6; ++k) {
+    const std::vector<std::int64_t> tracks = k < 3 ? std::vector<std::int64_t>{9, 10} : std::vector<std::int64_t>{9};
+    b.push_back(frame({2}, tracks, {{2, 9, 0.6}}));
+  }
+  MotMetrics pooled = clear_mot(a).all;
+  const MotMetrics mb = clear_mot(b).all;
+  for (std::size_t k = 0; k < static_cast<std::size_t>(MotMetrics::kHotaAlphas); ++k) {
+    pooled.hota_tp[k] += mb.hota_tp[k];
+    pooled.hota_fn[k] += mb.hota_fn[k];
+    pooled.hota_fp[k] += mb.hota_fp[k];
+    pooled.hota_assoc[k] += mb.hota_assoc[k];
+    pooled.hota_iou[k] += mb.hota_iou[k];
+  }
+  pooled.objects += mb.objects;
+  pooled.hypotheses += mb.hypotheses;
+  complete_mot(pooled);
+  std::vector<TrackingFrame> both = a;
+  both.insert(both.end(), b.begin(), b.end());
+  const MotMetrics whole = clear_mot(both).all;
+  EXPECT_NEAR(pooled.hota, whole.hota, 1e-12);
+  EXPECT_NEAR(pooled.deta, whole.deta, 1e-12);
+  EXPECT_NEAR(pooled.assa, whole.assa, 1e-12);
+  EXPECT_NEAR(pooled.loca, whole.loca, 1e-12);
+  EXPECT_LT(whole.hota, clear_mot(a).all.hota);  // b's false track and lower IoU cost it
+  // Nothing to score: NaN, not a number that looks like a score.
+  EXPECT_TRUE(std::isnan(clear_mot({}).all.hota));
 }
 
 TEST(ClearMot, ByClassKeepsEachClassApart) {

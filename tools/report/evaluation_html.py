@@ -229,6 +229,8 @@ def _tails_tables(data):
     row("MOTA", "tracking.mota", 4)
     row("MOTP [m] / mean IoU", "tracking", fn=lambda t: f"{fmt(t['motp_m'], 3)} / {fmt(t['motp_iou'], 3)}")
     row("IDF1", "tracking.idf1", 4)
+    row("HOTA (DetA / AssA / LocA)", "tracking",
+        fn=lambda t: f"{fmt(t.get('hota'), 4)} ({fmt(t.get('deta'), 3)} / {fmt(t.get('assa'), 3)} / {fmt(t.get('loca'), 3)})")
     row("identity switches / fragmentations", "tracking", fn=lambda t: f"{t['id_switches']} / {t['fragmentations']}")
     row("misses / false positives / objects", "tracking",
         fn=lambda t: f"{t['misses']} / {t['false_positives']} / {t['objects']}")
@@ -249,9 +251,10 @@ def _tails_tables(data):
                              for x in methods] for g in groups]
         out.append(html_table([title + ": 95 % coverage / mean NEES (scored estimates)"] + head[1:], brows))
     classes = sorted(set(c for x in methods for c in ms[x]["tracking"]["by_class"]))
-    crows = [[esc(c)] + [(lambda t: f"{fmt(t['mota'], 3)} / {fmt(t['idf1'], 3)} ({t['objects']})" if t else "–")(
+    crows = [[esc(c)] + [(lambda t: f"{fmt(t['mota'], 3)} / {fmt(t['idf1'], 3)} / {fmt(t.get('hota'), 3)} "
+                                    f"({t['objects']})" if t else "–")(
         ms[x]["tracking"]["by_class"].get(c)) for x in methods] for c in classes]
-    out.append(html_table(["class: MOTA / IDF1 (object-frames)"] + head[1:], crows))
+    out.append(html_table(["class: MOTA / IDF1 / HOTA (object-frames)"] + head[1:], crows))
     return "\n".join(out)
 
 

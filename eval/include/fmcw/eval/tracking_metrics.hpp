@@ -3,6 +3,7 @@
 // IDF1, with tracks matched to actors per frame by the IoU of their point sets.
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -78,6 +79,20 @@ struct MotMetrics {
   double idf1 = 0.0;        ///< 2 IDTP / (GT + hypotheses); NaN when both are 0
   double idp = 0.0;         ///< IDTP / hypotheses
   double idr = 0.0;         ///< IDTP / GT
+
+  /// HOTA (Luiten et al. 2021) at the localisation thresholds alpha = k / 20, k = 1..19: per
+  /// alpha the counts and sums that pool over runs (docs/EVALUATION.md, "HOTA").
+  static constexpr int kHotaAlphas = 19;
+  static double hota_alpha(int k) { return (k + 1) / 20.0; }
+  std::array<int, kHotaAlphas> hota_tp{};           ///< matches at alpha
+  std::array<int, kHotaAlphas> hota_fn{};           ///< objects unmatched at alpha
+  std::array<int, kHotaAlphas> hota_fp{};           ///< hypotheses unmatched at alpha
+  std::array<double, kHotaAlphas> hota_assoc{};     ///< sum over the matches of their pair's A
+  std::array<double, kHotaAlphas> hota_iou{};       ///< sum over the matches of their IoU
+  double hota = 0.0;  ///< mean over alpha of sqrt(DetA AssA); NaN without objects and hypotheses
+  double deta = 0.0;  ///< mean over alpha of TP / (TP + FN + FP)
+  double assa = 0.0;  ///< mean over alpha of the matches' mean A (0 at an alpha without matches)
+  double loca = 0.0;  ///< mean IoU of the matches, over the alphas with matches; NaN without
 };
 
 struct MotReport {
@@ -90,8 +105,9 @@ struct MotReport {
   MotMetrics vehicles;
 };
 
-/// Fills mota, motp_m, motp_iou, idf1, idp and idr from the counts. On entry motp_m and motp_iou
-/// hold their sums over the matches (so runs pool by adding counts and sums).
+/// Fills mota, motp_m, motp_iou, idf1, idp, idr, hota, deta, assa and loca from the counts. On
+/// entry motp_m and motp_iou hold their sums over the matches (so runs pool by adding counts and
+/// sums).
 void complete_mot(MotMetrics& m);
 
 /// Frames in order. See docs/EVALUATION.md ("Tracking") for the exact procedure.
