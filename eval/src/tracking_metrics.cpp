@@ -175,12 +175,12 @@ int identity_true_positives(const std::map<std::pair<std::uint32_t, std::int64_t
   return idtp;
 }
 
-// HOTA's counts and sums (Luiten et al. 2021, as TrackEval computes them). Each object and
-// hypothesis pair's alignment over the run: the sum over frames of their IoU over the union of
-// both rows of the frame's IoU matrix, over the frames either is present in less that sum. Per
-// frame the pairs are matched by the Hungarian method on alignment times IoU; a match counts at
-// alpha where its IoU is at least alpha. A match's A is its pair's matches at alpha over the
-// frames either is present in, less those matches.
+// HOTA's counts and sums (Luiten et al. 2021, as TrackEval computes them). Each object o and
+// hypothesis h get an alignment over the run: the sum over frames of their IoU / (the sum of o's
+// row + the sum of h's column of the frame's IoU matrix - their IoU), divided by (the frames o
+// is present in + the frames h is present in - that sum). Per frame the pairs are matched by the
+// Hungarian method on alignment times IoU; a match counts at alpha where its IoU is at least
+// alpha. A match's A: its pair's matches at alpha / (o's frames + h's frames - those matches).
 void hota_sums(const std::vector<TrackingFrame>& frames, MotMetrics& s) {
   using Pair = std::pair<std::uint32_t, std::int64_t>;
   const auto pair_of = [](const TrackingFrame& f, const PointOverlap& o) {

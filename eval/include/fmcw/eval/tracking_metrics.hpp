@@ -1,6 +1,6 @@
 #pragma once
-// Multi-object tracking metrics: CLEAR MOT (MOTA, MOTP, identity switches, fragmentations) and
-// IDF1, with tracks matched to actors per frame by the IoU of their point sets.
+// Multi-object tracking metrics: CLEAR MOT (MOTA, MOTP, identity switches, fragmentations), IDF1
+// and HOTA, with tracks matched to actors per frame by the IoU of their point sets.
 
 #include <Eigen/Core>
 #include <array>
@@ -80,8 +80,9 @@ struct MotMetrics {
   double idp = 0.0;         ///< IDTP / hypotheses
   double idr = 0.0;         ///< IDTP / GT
 
-  /// HOTA (Luiten et al. 2021) at the localisation thresholds alpha = k / 20, k = 1..19: per
-  /// alpha the counts and sums that pool over runs (docs/EVALUATION.md, "HOTA").
+  /// HOTA (Luiten et al. 2021) at the 19 localisation thresholds alpha = hota_alpha(k) = (k + 1)
+  /// / 20, k = 0..18: per alpha the counts and sums that pool over runs (docs/EVALUATION.md,
+  /// "Tracking (CLEAR MOT, IDF1, HOTA)").
   static constexpr int kHotaAlphas = 19;
   static double hota_alpha(int k) { return (k + 1) / 20.0; }
   std::array<int, kHotaAlphas> hota_tp{};           ///< matches at alpha
