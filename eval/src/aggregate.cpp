@@ -80,29 +80,7 @@ void finish(CalibrationStats& c) {
   c.mean_nees = ratio(c.mean_nees, c.scored);
   c.mean_dof = ratio(c.mean_dof, c.scored);
 }
-// Pooled tracking: CLEAR MOT's, IDF1's and HOTA's counts add over runs (an actor of one run is
-// never one of another).
-void add_counts(MotMetrics& sum, const MotMetrics& x) {
-  sum.objects += x.objects;
-  sum.hypotheses += x.hypotheses;
-  sum.matches += x.matches;
-  sum.misses += x.misses;
-  sum.false_positives += x.false_positives;
-  sum.id_switches += x.id_switches;
-  sum.fragmentations += x.fragmentations;
-  sum.idtp += x.idtp;
-  for (std::size_t k = 0; k < static_cast<std::size_t>(MotMetrics::kHotaAlphas); ++k) {
-    sum.hota_tp[k] += x.hota_tp[k];
-    sum.hota_fn[k] += x.hota_fn[k];
-    sum.hota_fp[k] += x.hota_fp[k];
-    sum.hota_assoc[k] += x.hota_assoc[k];
-    sum.hota_iou[k] += x.hota_iou[k];
-  }
-  if (x.matches > 0) {
-    sum.motp_m += x.motp_m * x.matches;
-    sum.motp_iou += x.motp_iou * x.matches;
-  }
-}
+void add_counts(MotMetrics& sum, const MotMetrics& x) { add_mot_counts(sum, x); }
 void finish(MotMetrics& m) { complete_mot(m); }
 
 // Pools an RMSE over runs: the squared errors summed back from RMSE^2 * n.

@@ -366,6 +366,28 @@ void complete_mot(MotMetrics& s) {
   s.loca = with_matches > 0 ? loca / with_matches : kNaN;
 }
 
+void add_mot_counts(MotMetrics& sum, const MotMetrics& x) {
+  sum.objects += x.objects;
+  sum.hypotheses += x.hypotheses;
+  sum.matches += x.matches;
+  sum.misses += x.misses;
+  sum.false_positives += x.false_positives;
+  sum.id_switches += x.id_switches;
+  sum.fragmentations += x.fragmentations;
+  sum.idtp += x.idtp;
+  for (std::size_t k = 0; k < static_cast<std::size_t>(MotMetrics::kHotaAlphas); ++k) {
+    sum.hota_tp[k] += x.hota_tp[k];
+    sum.hota_fn[k] += x.hota_fn[k];
+    sum.hota_fp[k] += x.hota_fp[k];
+    sum.hota_assoc[k] += x.hota_assoc[k];
+    sum.hota_iou[k] += x.hota_iou[k];
+  }
+  if (x.matches > 0) {
+    sum.motp_m += x.motp_m * x.matches;
+    sum.motp_iou += x.motp_iou * x.matches;
+  }
+}
+
 MotReport clear_mot(const std::vector<TrackingFrame>& frames, const MotParams& params) {
   params.validate();
   MotReport r;

@@ -208,26 +208,18 @@ TEST(Hota, AFramesMatchFollowsThePairAlignedOverTheRun) {
   EXPECT_DOUBLE_EQ(assa_at(m, 12), 4.0 / 6.0);
 }
 
-TEST(Hota, RunsPoolByAddingTheirCounts) {
-  // Two runs with no object or track in common: their counts added give the HOTA of both
-  // sequences as one.
+TEST(Hota, RunsPoolByAddingTheirCountsAsAnAggregateDoes) {
+  // Two runs with no object or track in common: pooled as an aggregate pools them
+  // (add_mot_counts), they give the HOTA, MOTA and IDF1 of both sequences as one.
   std::vector<TrackingFrame> a, b;
   for (int k = 0; k < 10; ++k) a.push_back(frame({1}, {k < 5 ? 7 : 8}, {{1, k < 5 ? 7 : 8, 0.8}}));
   for (int k = 0; k < 6; ++k) {
     const std::vector<std::int64_t> tracks = k < 3 ? std::vector<std::int64_t>{9, 10} : std::vector<std::int64_t>{9};
     b.push_back(frame({2}, tracks, {{2, 9, 0.6}}));
   }
-  MotMetrics pooled = clear_mot(a).all;
-  const MotMetrics mb = clear_mot(b).all;
-  for (std::size_t k = 0; k < static_cast<std::size_t>(MotMetrics::kHotaAlphas); ++k) {
-    pooled.hota_tp[k] += mb.hota_tp[k];
-    pooled.hota_fn[k] += mb.hota_fn[k];
-    pooled.hota_fp[k] += mb.hota_fp[k];
-    pooled.hota_assoc[k] += mb.hota_assoc[k];
-    pooled.hota_iou[k] += mb.hota_iou[k];
-  }
-  pooled.objects += mb.objects;
-  pooled.hypotheses += mb.hypotheses;
+  MotMetrics pooled;
+  add_mot_counts(pooled, clear_mot(a).all);
+  add_mot_counts(pooled, clear_mot(b).all);
   complete_mot(pooled);
   std::vector<TrackingFrame> both = a;
   both.insert(both.end(), b.begin(), b.end());
@@ -236,6 +228,9 @@ TEST(Hota, RunsPoolByAddingTheirCounts) {
   EXPECT_NEAR(pooled.deta, whole.deta, 1e-12);
   EXPECT_NEAR(pooled.assa, whole.assa, 1e-12);
   EXPECT_NEAR(pooled.loca, whole.loca, 1e-12);
+  EXPECT_NEAR(pooled.mota, whole.mota, 1e-12);
+  EXPECT_NEAR(pooled.idf1, whole.idf1, 1e-12);
+  EXPECT_NEAR(pooled.motp_iou, whole.motp_iou, 1e-12);
   EXPECT_LT(whole.hota, clear_mot(a).all.hota);  // b's false track and lower IoU cost it
   // Nothing to score: NaN, not a number that looks like a score.
   EXPECT_TRUE(std::isnan(clear_mot({}).all.hota));

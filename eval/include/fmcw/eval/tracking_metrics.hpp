@@ -111,6 +111,11 @@ struct MotReport {
 /// sums).
 void complete_mot(MotMetrics& m);
 
+/// Pools a completed run's metrics into `sum`: CLEAR MOT's, IDF1's and HOTA's counts and sums
+/// add over runs (an actor of one run is never one of another), MOTP's means back into sums.
+/// complete_mot(sum) after the last run gives the pooled metrics.
+void add_mot_counts(MotMetrics& sum, const MotMetrics& x);
+
 /// Frames in order. See docs/EVALUATION.md ("Tracking") for the exact procedure.
 MotReport clear_mot(const std::vector<TrackingFrame>& frames, const MotParams& params = {});
 
