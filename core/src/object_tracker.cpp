@@ -105,6 +105,13 @@ void TrackerParams::validate() const {
   h.at_least("cut_sigma_factor", heading.cut_sigma_factor, 1.0);
   h.positive("slip_sigma_mps", heading.slip_sigma_mps);
   h.non_negative("centre_offset_fraction", heading.centre_offset_fraction);
+  h.non_negative("face_min_length_m (0: never)", heading.face_min_length_m);
+  h.at_least("face_min_columns", heading.face_min_columns, 2);
+  FMCW_CHECK_ARG(heading.face_sight_cosine >= 0.0 && heading.face_sight_cosine <= 1.0,
+                 "tracking.heading.face_sight_cosine must be in [0, 1], got ", heading.face_sight_cosine);
+  FMCW_CHECK_ARG(heading.face_max_angle_rad >= 0.0 && heading.face_max_angle_rad <= 0.5 * M_PI,
+                 "tracking.heading.face_max_angle_rad must be in [0, pi/2], got ", heading.face_max_angle_rad);
+  h.positive("face_sigma_rad", heading.face_sigma_rad);
   const FieldCheck a{"association"};
   a.non_negative("gate_m", association.gate_m);
   a.at_least("min_cluster_pixels", association.min_cluster_pixels, 3);

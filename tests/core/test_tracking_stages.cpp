@@ -388,11 +388,12 @@ struct AxisCase {
   std::vector<std::uint32_t> pixels;
 };
 
-AxisCase render_box(const Eigen::Vector2d& centre, double length, double width, double yaw) {
+AxisCase render_box(const Eigen::Vector2d& centre, double length, double width, double yaw,
+                    double height = 1.5) {
   SyntheticSceneParams p;
   SyntheticBox b;
-  b.center_m = Eigen::Vector3d(centre.x(), centre.y(), 0.8);
-  b.half_extent_m = Eigen::Vector3d(0.5 * length, 0.5 * width, 0.75);
+  b.center_m = Eigen::Vector3d(centre.x(), centre.y(), 0.05 + 0.5 * height);
+  b.half_extent_m = Eigen::Vector3d(0.5 * length, 0.5 * width, 0.5 * height);
   b.yaw_rad = yaw;
   p.actors.push_back(b);
   p.range_noise_m = 0.025;
@@ -442,6 +443,25 @@ TEST(TrackingOutlineAxis, ASquareOutlineOrARearFaceGivesNoAxis) {
   EXPECT_LT(rear.length_m, 2.0);
 }
 
+// A track at `centre` (the rig at the origin) whose prior holds the line one scan leaves open:
+// v = v_app - omega z x (o - c), omega ~ N(0, s0^2), its velocity v_app = v + omega z x (o - c)
+// (the body's v, turning at omega) and its yaw rate 0.
+Track track_on_the_doppler_line(const Eigen::Vector2d& centre, const Eigen::Vector2d& v, double omega,
+                                double s0, double length, double width) {
+  const Eigen::Vector2d sv(centre.y(), -centre.x());  // z x (o - c), o at the origin
+  Track tr;
+  tr.length_m = length;
+  tr.width_m = width;
+  tr.x << centre.x(), centre.y(), (v + omega * sv).x(), (v + omega * sv).y(), 0.0;
+  tr.P = Mat5::Zero();
+  tr.P.topLeftCorner<2, 2>() = 0.01 * Eigen::Matrix2d::Identity();
+  tr.P.block<2, 2>(2, 2) = 0.01 * Eigen::Matrix2d::Identity() + s0 * s0 * sv * sv.transpose();
+  tr.P.block<2, 1>(2, 4) = -s0 * s0 * sv;
+  tr.P.block<1, 2>(4, 2) = -s0 * s0 * sv.transpose();
+  tr.P(4, 4) = s0 * s0;
+  return tr;
+}
+
 TEST(TrackingOutlineAxis, TheAxisFixesTheYawRateTheDopplerLeavesOpen) {
   // A track whose prior holds the line one scan leaves open: v = v_app - omega z x (o - c), omega
   // ~ N(0, 0.4^2). The car (20 m ahead, heading 30 degrees, 8 m/s, turning at 0.4 rad/s) shows
@@ -451,18 +471,8 @@ TEST(TrackingOutlineAxis, TheAxisFixesTheYawRateTheDopplerLeavesOpen) {
   const ScanBeams beams(c.rendered.scan);
   const Frame frame = standing_frame(c.rendered.scan, beams);
   const Eigen::Vector2d centre(20.0, 6.0), v = 8.0 * Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
-  const double omega = 0.4, s0 = 0.4;
-  const Eigen::Vector2d sv(centre.y(), -centre.x());  // z x (o - c), o at the origin
-  Track tr;
-  tr.length_m = 4.5;
-  tr.width_m = 1.8;
-  tr.x << centre.x(), centre.y(), (v + omega * sv).x(), (v + omega * sv).y(), 0.0;
-  tr.P = Mat5::Zero();
-  tr.P.topLeftCorner<2, 2>() = 0.01 * Eigen::Matrix2d::Identity();
-  tr.P.block<2, 2>(2, 2) = 0.01 * Eigen::Matrix2d::Identity() + s0 * s0 * sv * sv.transpose();
-  tr.P.block<2, 1>(2, 4) = -s0 * s0 * sv;
-  tr.P.block<1, 2>(4, 2) = -s0 * s0 * sv.transpose();
-  tr.P(4, 4) = s0 * s0;
+  const double omega = 0.4;
+  Track tr = track_on_the_doppler_line(centre, v, omega, 0.4, 4.5, 1.8);
   Mat5 info = Mat5::Zero();
   Vec5 grad = Vec5::Zero();
   ASSERT_TRUE(axis_information(tr, c.pixels, frame, TrackerParams{}, info, grad));
@@ -544,6 +554,77 @@ TEST(TrackingOutlineAxis, AnAxisFarOffTheTracksHeadingIsNotMeasured) {
   no_gate.heading.gate_sigmas = 0.0;
   EXPECT_TRUE(measured(sure_along_x(), skew, skew_frame, no_gate));
   EXPECT_TRUE(measured(sure_along_x(), along, along_frame, TrackerParams{}));
+}
+
+// A van's height [m]: its roof lies above the rig's heads, unseen.
+constexpr double kVanHeight = 2.6;
+
+TEST(TrackingOutlineAxis, AFaceSeenEndOnGivesTheAxisAsItsNormal) {
+  // A van 2.0 m wide, 30 m ahead, heading 3 degrees (its bearing): only its rear shows, a line
+  // across the body (no long side). Square to the line of sight, in enough columns, and its
+  // normal within face_max_angle_rad of the track's heading, it is a face: the axis is its
+  // normal, within 1.96 of its stated noise of the known heading.
+  const TrackerParams::Heading p;
+  const double yaw = 3.0 * M_PI / 180.0;
+  const Eigen::Vector2d heading(std::cos(yaw), std::sin(yaw));
+  const AxisCase rear = render_box({30.0, 1.5}, 5.5, 2.0, yaw, kVanHeight);
+  const OutlineAxis a = axis_of(rear);
+  ASSERT_FALSE(a.informative);
+  ASSERT_GE(a.columns, p.face_min_columns);
+  EXPECT_TRUE(is_face(a, Eigen::Vector2d::Zero(), heading, p));
+  const double sigma = std::sqrt(face_heading_variance(a, false, p));
+  EXPECT_LT(axis_angle(Eigen::Vector2d(-a.axis.y(), a.axis.x()), yaw), 1.96 * sigma);
+  EXPECT_NEAR(sigma, std::hypot(p.sigma_rad, p.face_sigma_rad / std::sqrt(a.columns)), 1e-12);
+  EXPECT_DOUBLE_EQ(face_heading_variance(a, true, p),
+                   p.cut_sigma_factor * p.cut_sigma_factor * sigma * sigma);
+  // Not a face: a track heading across it (a rider's or a van's side shows a line along its
+  // way); seen from a sensor to whose line of sight the line is not square (a side at a grazing
+  // angle); in fewer columns than face_min_columns; with face_min_length_m 0 (the switch).
+  EXPECT_FALSE(is_face(a, Eigen::Vector2d::Zero(), Eigen::Vector2d(-heading.y(), heading.x()), p));
+  EXPECT_FALSE(is_face(a, Eigen::Vector2d(30.0, -25.0), heading, p));
+  TrackerParams::Heading more_columns = p;
+  more_columns.face_min_columns = a.columns + 1;
+  EXPECT_FALSE(is_face(a, Eigen::Vector2d::Zero(), heading, more_columns));
+  TrackerParams::Heading off = p;
+  off.face_min_length_m = 0.0;
+  EXPECT_FALSE(is_face(a, Eigen::Vector2d::Zero(), heading, off));
+  // A walker-wide outline is none: shorter than face_min_length_m.
+  const OutlineAxis walker = axis_of(render_box({30.0, 1.5}, 0.4, 0.8, yaw));
+  EXPECT_FALSE(is_face(walker, Eigen::Vector2d::Zero(), heading, p));
+}
+
+TEST(TrackingOutlineAxis, AFaceFixesTheVelocityOfAVanSeenEndOn) {
+  // The van of the test above, at 14 m/s turning at 0.05 rad/s, its track holding the line one
+  // scan leaves open (v = v_app - omega z x (o - c), omega ~ N(0, 0.1^2)). Its face measures the
+  // direction of its velocity: velocity and yaw rate are found, where without it the track
+  // keeps the Doppler's line, a velocity 1.5 m/s off.
+  const double yaw = 3.0 * M_PI / 180.0;
+  const Eigen::Vector2d centre(30.0, 1.5), v = 14.0 * Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
+  const AxisCase c = render_box(centre, 5.5, 2.0, yaw, kVanHeight);
+  const ScanBeams beams(c.rendered.scan);
+  const Frame frame = standing_frame(c.rendered.scan, beams);
+  const double omega = 0.05;
+  const Track tr = track_on_the_doppler_line(centre, v, omega, 0.1, 5.5, 2.0);
+  ASSERT_GT((tr.velocity() - v).norm(), 1.4);
+  const auto updated = [&](const TrackerParams& p) {
+    Track t = tr;
+    Mat5 info = Mat5::Zero();
+    Vec5 grad = Vec5::Zero();
+    const bool used = axis_information(t, c.pixels, frame, p, info, grad);
+    EXPECT_EQ(used, t.axis_seen);
+    information_update(t, info, grad, p);
+    return std::make_pair(used, t);
+  };
+  const auto [used, with_face] = updated(TrackerParams{});
+  TrackerParams off;
+  off.heading.face_min_length_m = 0.0;
+  const auto [used_off, without] = updated(off);
+  EXPECT_TRUE(used);
+  EXPECT_LT((with_face.velocity() - v).norm(), 0.25);
+  EXPECT_NEAR(with_face.yaw_rate(), omega, 0.015);
+  EXPECT_LT(std::sqrt(with_face.P(4, 4)), 0.02);  // and it knows it
+  EXPECT_FALSE(used_off);
+  EXPECT_GT((without.velocity() - v).norm(), 1.4);
 }
 
 // ---- A turn released while its rate holds up -----------------------------------------------

@@ -99,12 +99,19 @@ bool axis_information(Track& tr, const std::vector<std::uint32_t>& pixels, const
   // turn may have swung 50 degrees off its axis.)
   if (tr.walker || tr.small(p) || pixels.empty() || tr.velocity().norm() <= p.small.walker_max_speed_mps) return false;
   const OutlineAxis a = outline_axis(pixels, frame, p.heading);
-  if (!a.informative) return false;
   const TrackerParams::Heading& ph = p.heading;
-  const Eigen::Vector2d n(-a.axis.y(), a.axis.x());
-  const double heading_var = axis_heading_variance(a, frame.position, tr.outline_cut, ph);
+  // No long side: a face across the body (its rear or front, seen end-on), the axis its normal.
+  const bool face = is_face(a, frame.position, tr.velocity().normalized(), ph);
+  if (!a.informative && !face) return false;
+  // The direction across the body: across the long side, or along the face.
+  const Eigen::Vector2d n = face ? a.axis : Eigen::Vector2d(-a.axis.y(), a.axis.x());
+  const double heading_var = face ? face_heading_variance(a, tr.outline_cut, ph)
+                                  : axis_heading_variance(a, frame.position, tr.outline_cut, ph);
   const double speed = tr.velocity().norm();
-  const double lateral = ph.centre_offset_fraction * a.length_m * std::abs(tr.yaw_rate());
+  // A turning car's centre moves across its axis (it turns about its rear axle); a face is as
+  // long as the body is wide, the body at least min_length_m long.
+  const double body_m = face ? std::max(tr.length_m, ph.min_length_m) : a.length_m;
+  const double lateral = ph.centre_offset_fraction * body_m * std::abs(tr.yaw_rate());
   const double var = speed * speed * heading_var + ph.slip_sigma_mps * ph.slip_sigma_mps + lateral * lateral;
   const double innovation = -n.dot(tr.velocity());
   const double spread = std::sqrt(n.dot(tr.P.block<2, 2>(2, 2) * n) + var);

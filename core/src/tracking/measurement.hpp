@@ -31,9 +31,10 @@ bool settled(const Track& tr, const TrackerParams& p);
 /// the yaw rate it holds is the body's.
 bool turn_held(const Track& tr, const TrackerParams& p);
 
-/// The outline's axis of the pixels (TrackerParams::Heading), where it is informative and the
-/// track is no walker, not small and faster than a walker, as a measurement of the velocity's direction: its information
-/// and gradient at the track's state are added. Sets Track::axis_seen; returns it.
+/// The outline's axis of the pixels (TrackerParams::Heading), where it is informative (or, where
+/// no long side shows, a face across the body gives it as its normal) and the track is no
+/// walker, not small and faster than a walker, as a measurement of the velocity's direction: its
+/// information and gradient at the track's state are added. Sets Track::axis_seen; returns it.
 bool axis_information(Track& tr, const std::vector<std::uint32_t>& pixels, const Frame& frame, const TrackerParams& p, Mat5& info,
                       Vec5& grad);
 

@@ -120,6 +120,7 @@ OutlineAxis outline_axis(const std::vector<std::uint32_t>& pixels, const Frame& 
   out.length_m = std::max(along, across);
   out.width_m = std::min(along, across);
   out.at = pts.ref;
+  out.columns = static_cast<int>(pts.near.size());
   out.informative = p.use_outline && out.length_m >= p.min_length_m && out.length_m >= p.min_aspect * out.width_m;
   return out;
 }
@@ -135,6 +136,23 @@ double axis_heading_variance(const OutlineAxis& a, const Eigen::Vector2d& sensor
       range / a.length_m < p.near_range_lengths ? std::max(p.sigma_rad, p.near_sigma_rad) : p.sigma_rad;
   const double factor = cut ? p.cut_sigma_factor : 1.0;
   return factor * factor * (floor * floor + end * end);
+}
+
+bool is_face(const OutlineAxis& a, const Eigen::Vector2d& sensor, const Eigen::Vector2d& heading,
+             const TrackerParams::Heading& p) {
+  if (!p.use_outline || p.face_min_length_m <= 0.0 || a.informative) return false;
+  const Eigen::Vector2d sight = (a.at - sensor).normalized();
+  // Not long enough for a body's length, long enough for its width, a line.
+  const bool line = a.length_m >= p.face_min_length_m && a.length_m < p.min_length_m &&
+                    a.length_m >= p.min_aspect * a.width_m && a.columns >= p.face_min_columns;
+  // Square to the line of sight, and to the track's velocity.
+  return line && std::abs(a.axis.dot(sight)) <= p.face_sight_cosine &&
+         std::abs(a.axis.dot(heading)) <= std::sin(p.face_max_angle_rad);
+}
+
+double face_heading_variance(const OutlineAxis& a, bool cut, const TrackerParams::Heading& p) {
+  const double factor = cut ? p.cut_sigma_factor : 1.0;
+  return factor * factor * (p.sigma_rad * p.sigma_rad + p.face_sigma_rad * p.face_sigma_rad / a.columns);
 }
 
 }  // namespace fmcw::core::tracking

@@ -21,6 +21,7 @@ struct OutlineAxis {
   /// wide, so it is the body's length) and min_aspect times the short one (a square-ish outline
   /// has no axis to tell).
   bool informative = false;
+  int columns = 0;  ///< columns the outline spans (those with a pixel)
 };
 
 /// The rectangle of the pixels' ground-plane footprint along whose edges the side the sensor sees
@@ -35,5 +36,14 @@ OutlineAxis outline_axis(const std::vector<std::uint32_t>& pixels, const Frame& 
 /// the sensor (tracker world); cut: the view or an occluder cuts the outline.
 double axis_heading_variance(const OutlineAxis& a, const Eigen::Vector2d& sensor, bool cut,
                              const TrackerParams::Heading& p);
+
+/// Where no long side shows, a face across the body (TrackerParams::Heading, face_*): whether
+/// the outline's long side is one, the track's velocity direction `heading` (unit) and the
+/// sensor given (tracker world).
+bool is_face(const OutlineAxis& a, const Eigen::Vector2d& sensor, const Eigen::Vector2d& heading,
+             const TrackerParams::Heading& p);
+
+/// The variance of the heading a face measures [rad^2] (its normal's direction).
+double face_heading_variance(const OutlineAxis& a, bool cut, const TrackerParams::Heading& p);
 
 }  // namespace fmcw::core::tracking

@@ -130,6 +130,17 @@ struct TrackerParams {
   /// cut_sigma_factor where the view or an occluder cuts the outline. An axis whose innovation
   /// exceeds gate_sigmas standard deviations (the track's own and the measurement's) is not
   /// measured in that update (0: never dropped).
+  ///
+  /// A face across the body (a vehicle seen end-on shows its rear or its front, a line as long
+  /// as the body is wide) gives the axis as its normal: measured where no long side shows, the
+  /// outline's long side is at least face_min_length_m (wider than a walker or a rider) and
+  /// min_aspect times its short one, seen in face_min_columns columns or more, square to the
+  /// line of sight within face_sight_cosine (|cos| of the angle between the face and the line of
+  /// sight: a side seen at a grazing angle is not square to it), and its normal within
+  /// face_max_angle_rad of the track's velocity (a face along the body, a rider's or a van's
+  /// side, lies square to it). Its heading's noise: sigma_rad and face_sigma_rad over the root
+  /// of the columns the face spans (measured: docs/METHODS.md), times cut_sigma_factor where the
+  /// view or an occluder cuts the outline.
   struct Heading {
     bool use_outline = true;            ///< false: the outline's axis is not measured
     double min_length_m = 3.0;          ///< [m]
@@ -142,6 +153,11 @@ struct TrackerParams {
     double slip_sigma_mps = 0.2;        ///< [m/s]
     double centre_offset_fraction = 0.25;
     double gate_sigmas = 4.0;
+    double face_min_length_m = 1.2;     ///< [m] (0: no face measured)
+    int face_min_columns = 8;
+    double face_sight_cosine = 0.3;
+    double face_max_angle_rad = 0.35;   ///< [rad]
+    double face_sigma_rad = 0.052;      ///< [rad], over the root of the face's columns
   } heading;
 
   /// A track starts turning (its velocity reported at its centre with the yaw rate) when
