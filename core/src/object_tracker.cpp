@@ -160,6 +160,9 @@ void TrackerParams::validate() const {
   x.positive("heading_reset_rad", box.heading_reset_rad);
   x.non_negative("view_cut_end_m", box.view_cut_end_m);
   x.non_negative("occlusion_gap_m (0: no occluders)", box.occlusion_gap_m);
+  x.non_negative("stray_gap_m (0: every pixel counts)", box.stray_gap_m);
+  FMCW_CHECK_ARG(box.stray_share >= 0.0 && box.stray_share < 0.5, "tracking.box.stray_share must be in [0, 0.5), got ",
+                 box.stray_share);
   FMCW_CHECK_ARG(box.view_cut_cosine >= 0.0 && box.view_cut_cosine < 1.0, "tracking.box.view_cut_cosine must be in [0, 1), got ",
                  box.view_cut_cosine);
 }

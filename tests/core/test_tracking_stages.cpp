@@ -380,6 +380,36 @@ TEST(TrackingBox, AnExtentGrowingAtTheEndNotSeenMovesThePredictionNotTheMeasurem
   EXPECT_NEAR(tr.x(1), 15.9, 1e-12);  // across, nothing grew
 }
 
+TEST(TrackingBox, AFewPixelsFarBesideAVehicleAreNoPartOfItsBox) {
+  // A car's side, 60 pixels from x = 10 to 14.4 at y = 15, its track heading along +x at 5 m/s
+  // with a box 1.8 m wide. One more pixel of its cluster lies 10 m beside it (a pole behind its
+  // edge): the outline across would be 10 m wide, wider than any body, and that pixel lies beyond
+  // a gap of more than stray_gap_m: a stray, and the box keeps its width. One 2.5 m beside it
+  // (its far side seen under the body) is within a body's width and counts.
+  const auto width_with = [](double extra_y, const TrackerParams& p, double speed) {
+    HandScan h;
+    for (int r = 0; r < 5; ++r) {
+      for (int c = 0; c < 12; ++c) h.set(r, c, Eigen::Vector3d(10.0 + 0.4 * c, 15.0, 0.3 * r), 0.0);
+    }
+    h.set(2, 15, Eigen::Vector3d(12.0, extra_y, 0.6), 0.0);
+    const ScanBeams beams(h.scan);
+    const Frame frame = standing_frame(h.scan, beams);
+    Track tr = track_along_x(12.2, 4.4);
+    tr.x(2) = speed;
+    measure_box(tr, every_valid_pixel(h.scan), false, frame, ViewEdges(h.scan, 0.0), p);
+    EXPECT_NEAR(tr.length_m, 4.4, 1e-6);
+    return tr.width_m;
+  };
+  const TrackerParams p;
+  EXPECT_NEAR(width_with(25.0, p, 5.0), 1.8, 1e-9);  // the stray left out
+  EXPECT_NEAR(width_with(17.5, p, 5.0), 2.5, 1e-6);  // within a body's width: counts
+  TrackerParams off = p;
+  off.box.stray_gap_m = 0.0;
+  EXPECT_NEAR(width_with(25.0, off, 5.0), p.box.max_width_m, 1e-9);  // every pixel counts
+  // A walker's pace: a group of walkers in a row has no strays.
+  EXPECT_NEAR(width_with(25.0, p, 1.0), p.box.max_width_m, 1e-9);
+}
+
 // ---- The outline's axis ------------------------------------------------------------------
 
 // The pixels of one box (instance 1) on the paper rig, noise as in Table I, and its outline's axis.

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <utility>
 
 #include "fmcw/core/median.hpp"
 
@@ -92,8 +94,34 @@ struct Outline {
   double zmax = -std::numeric_limits<double>::infinity();
 };
 
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Where stray pixels may lie along one axis: below `lo` or above `hi`. Of the share of the values
+// nearest each end, those beyond the last gap wider than gap_m there (none: -inf or +inf).
+std::pair<double, double> stray_bounds(std::vector<double> v, double gap_m, double share) {
+  const auto m = static_cast<std::size_t>(share * static_cast<double>(v.size()));
+  if (gap_m <= 0.0 || m == 0 || 2 * (m + 1) > v.size()) return {-kInf, kInf};
+  const auto k = static_cast<std::ptrdiff_t>(m + 1);
+  // The m + 1 lowest, ascending; then the m + 1 highest, descending.
+  std::nth_element(v.begin(), v.begin() + k - 1, v.end());
+  std::sort(v.begin(), v.begin() + k);
+  double lo = -kInf;
+  for (std::ptrdiff_t j = 0; j + 1 < k; ++j) {
+    if (v[j + 1] - v[j] > gap_m) lo = v[j + 1];
+  }
+  std::nth_element(v.begin() + k, v.end() - k, v.end());
+  std::sort(v.end() - k, v.end(), std::greater<>());
+  double hi = kInf;
+  for (std::ptrdiff_t j = 0; j + 1 < k; ++j) {
+    if (v[v.size() - k + j] - v[v.size() - k + j + 1] > gap_m) hi = v[v.size() - k + j + 1];
+  }
+  return {lo, hi};
+}
+
+// The outline of the pixels; strays: leave out a vehicle's stray pixels (TrackerParams::Box).
 Outline outline_of(const std::vector<std::uint32_t>& pixels, const Frame& frame, const ViewEdges& edges,
-                   const Eigen::Vector2d& u, const Eigen::Vector2d& wv) {
+                   const Eigen::Vector2d& u, const Eigen::Vector2d& wv, const TrackerParams::Box& p,
+                   bool strays) {
   Outline o;
   o.pts.reserve(pixels.size());
   for (const std::uint32_t i : pixels) {
@@ -105,13 +133,32 @@ Outline outline_of(const std::vector<std::uint32_t>& pixels, const Frame& frame,
     o.zmax = std::max(o.zmax, q.z());
   }
   o.ref /= static_cast<double>(std::max<std::size_t>(pixels.size(), 1));
-  for (const Eigen::Vector2d& q : o.pts) {
-    const Eigen::Vector2d d = q - o.ref;
-    o.a0 = std::min(o.a0, d.dot(u));
-    o.a1 = std::max(o.a1, d.dot(u));
-    o.b0 = std::min(o.b0, d.dot(wv));
-    o.b1 = std::max(o.b1, d.dot(wv));
+  const auto extents = [&](double a_lo, double a_hi, double b_lo, double b_hi) {
+    o.a0 = o.a1 = o.b0 = o.b1 = 0.0;
+    for (const Eigen::Vector2d& q : o.pts) {
+      const double a = (q - o.ref).dot(u);
+      const double b = (q - o.ref).dot(wv);
+      if (a < a_lo || a > a_hi || b < b_lo || b > b_hi) continue;
+      o.a0 = std::min(o.a0, a);
+      o.a1 = std::max(o.a1, a);
+      o.b0 = std::min(o.b0, b);
+      o.b1 = std::max(o.b1, b);
+    }
+  };
+  extents(-kInf, kInf, -kInf, kInf);
+  // Stray pixels: beyond a gap at an end of an axis, stretching the extent along it past what
+  // any body measures (Box: max_length_m, max_width_m).
+  const bool long_a = o.a1 - o.a0 > p.max_length_m, long_b = o.b1 - o.b0 > p.max_width_m;
+  if (!strays || !(long_a || long_b)) return o;
+  std::vector<double> along(o.pts.size()), across(o.pts.size());
+  for (std::size_t k = 0; k < o.pts.size(); ++k) {
+    along[k] = (o.pts[k] - o.ref).dot(u);
+    across[k] = (o.pts[k] - o.ref).dot(wv);
   }
+  const std::pair<double, double> none{-kInf, kInf};
+  const auto [a_lo, a_hi] = long_a ? stray_bounds(along, p.stray_gap_m, p.stray_share) : none;
+  const auto [b_lo, b_hi] = long_b ? stray_bounds(across, p.stray_gap_m, p.stray_share) : none;
+  extents(a_lo, a_hi, b_lo, b_hi);
   return o;
 }
 
@@ -176,7 +223,10 @@ BoxMeasurement measure_box(Track& tr, const Group& g, bool born, const Frame& fr
   m.centre = tr.centre();
   m.seen = !pixels.empty();
   if (!m.seen) return m;
-  const Outline o = outline_of(pixels, frame, edges, u, wv);
+  // Strays are left out of a vehicle's box, not out of a walker's or a group of walkers' (a
+  // walker at the end of a row is no stray).
+  const bool strays = tr.velocity().norm() > p.small.walker_max_speed_mps;
+  const Outline o = outline_of(pixels, frame, edges, u, wv, p.box, strays);
   const double length_before = tr.length_m;
   const double width_before = tr.width_m;
   if (!m.centre_from_claims) {

@@ -337,6 +337,16 @@ struct TrackerParams {
     /// An outline's pixel whose neighbour in the row (same head) is nearer by this is cut there
     /// by an occluder, as by the view's edge: a car coming out from behind another [m]. 0: never.
     double occlusion_gap_m = 1.0;
+    /// A vehicle's box leaves out stray pixels: where the outline along an axis is longer than
+    /// any body (max_length_m along, max_width_m across), the pixels at an end beyond the last
+    /// gap wider than stray_gap_m among the stray_share of the outline's pixels nearest that end.
+    /// A pole behind a vehicle's edge, its Doppler close to the edge's (a rigid body's Doppler is
+    /// the same all along each ray), is chained into the vehicle's cluster and would otherwise
+    /// stretch its box, and move its centre, by metres; a vehicle's own far end seen under its
+    /// body or past a gap lies within those sizes and counts. Not for walkers or groups of them
+    /// (a walker at the end of a row is no stray) [m]. 0: every pixel counts.
+    double stray_gap_m = 2.0;
+    double stray_share = 0.02;
   } box;
 
   /// Throws std::invalid_argument naming the field that failed (tracking.<stage>.<field>).
