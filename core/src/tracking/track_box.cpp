@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <utility>
 
@@ -96,26 +95,28 @@ struct Outline {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Where stray pixels may lie along one axis: below `lo` or above `hi`. Of the share of the values
-// nearest each end, those beyond the last gap wider than gap_m there (none: -inf or +inf).
-std::pair<double, double> stray_bounds(std::vector<double> v, double gap_m, double share) {
-  const auto m = static_cast<std::size_t>(share * static_cast<double>(v.size()));
-  if (gap_m <= 0.0 || m == 0 || 2 * (m + 1) > v.size()) return {-kInf, kInf};
+// Of the values, the lowest that is no stray: of the m + 1 lowest, the one after the last gap
+// wider than gap_m among them (none: -inf). Reorders v.
+double lowest_kept(std::vector<double>& v, std::size_t m, double gap_m) {
   const auto k = static_cast<std::ptrdiff_t>(m + 1);
-  // The m + 1 lowest, ascending; then the m + 1 highest, descending.
   std::nth_element(v.begin(), v.begin() + k - 1, v.end());
   std::sort(v.begin(), v.begin() + k);
   double lo = -kInf;
   for (std::ptrdiff_t j = 0; j + 1 < k; ++j) {
     if (v[j + 1] - v[j] > gap_m) lo = v[j + 1];
   }
-  std::nth_element(v.begin() + k, v.end() - k, v.end());
-  std::sort(v.end() - k, v.end(), std::greater<>());
-  double hi = kInf;
-  for (std::ptrdiff_t j = 0; j + 1 < k; ++j) {
-    if (v[v.size() - k + j] - v[v.size() - k + j + 1] > gap_m) hi = v[v.size() - k + j + 1];
-  }
-  return {lo, hi};
+  return lo;
+}
+
+// Where stray pixels may lie along one axis: below `lo` or above `hi`. Of the share of the values
+// nearest each end (the two ends' shares apart), those beyond the last gap wider than gap_m
+// there (none: -inf or +inf).
+std::pair<double, double> stray_bounds(std::vector<double> v, double gap_m, double share) {
+  const auto m = static_cast<std::size_t>(share * static_cast<double>(v.size()));
+  if (gap_m <= 0.0 || m == 0 || 2 * (m + 1) > v.size()) return {-kInf, kInf};
+  const double lo = lowest_kept(v, m, gap_m);
+  for (double& x : v) x = -x;  // the highest end, as the lowest of the negated values
+  return {lo, -lowest_kept(v, m, gap_m)};
 }
 
 // The outline of the pixels; strays: leave out a vehicle's stray pixels (TrackerParams::Box).
