@@ -1113,6 +1113,21 @@ TEST(TrackingAssociation, ARiderInsideACarsBoxMovingOtherwiseKeepsItsTrack) {
 
 // ---- Track birth -----------------------------------------------------------------------------
 
+// A track born, the rig standing, on the pixels g of h whose single-scan fit gave velocity v
+// with covariance cov and residual RMS rms.
+Track born_of_fit(const HandScan& h, const Group& g, const Eigen::Vector2d& v,
+                  const Eigen::Matrix3d& cov, double rms, const TrackerParams& p) {
+  const ScanBeams beams(h.scan);
+  const Frame frame = standing_frame(h.scan, beams);
+  ClusterEstimate ce;
+  ce.num_pixels = static_cast<int>(g.found.size());
+  ce.velocity.velocity_mps = Eigen::Vector3d(v.x(), v.y(), 0.0);
+  ce.velocity.covariance = cov;
+  ce.velocity.residual_rms_mps = rms;
+  ce.velocity.valid = true;
+  return start_track(ce, g, 1, frame, ViewEdges(h.scan, p.box.occlusion_gap_m), p);
+}
+
 // A patch 0.3 m by 0.3 m (12 pixels) at (2, 1.5): the corner of a bus alongside the rig, or a
 // walker close by. Its single-scan estimate is given: velocity v, a standard deviation sigma on
 // both horizontal axes, residual RMS rms. Returns the velocity the track is born with, less the
@@ -1128,15 +1143,7 @@ double born_off(const Eigen::Vector2d& v, double sigma, double rms, Expected exp
       g.found.push_back(static_cast<std::uint32_t>(h.scan.index(r, c)));
     }
   }
-  const ScanBeams beams(h.scan);
-  const Frame frame = standing_frame(h.scan, beams);
-  ClusterEstimate ce;
-  ce.num_pixels = static_cast<int>(g.found.size());
-  ce.velocity.velocity_mps = Eigen::Vector3d(v.x(), v.y(), 0.0);
-  ce.velocity.covariance = Eigen::Matrix3d::Identity() * sigma * sigma;
-  ce.velocity.residual_rms_mps = rms;
-  ce.velocity.valid = true;
-  const Track tr = start_track(ce, g, 1, frame, ViewEdges(h.scan, p.box.occlusion_gap_m), p);
+  const Track tr = born_of_fit(h, g, v, Eigen::Matrix3d::Identity() * sigma * sigma, rms, p);
   EXPECT_TRUE(tr.small(p));
   EXPECT_FALSE(tr.outline_cut);
   const Eigen::Vector2d radial = tr.centre().normalized();  // the rig at the origin
@@ -1157,6 +1164,53 @@ TEST(TrackingBirth, ASmallPatchWhoseScanResolvedAFastRigidMotionIsBornWithIt) {
   TrackerParams off;
   off.small.rigid_patch_sigma_mps = 0.0;
   EXPECT_LT(born_off(v, 0.1, 0.03, Expected::radial, off), 1e-9);
+}
+
+// A patch 1.65 m long across the line of sight 20 m ahead (36 pixels, larger than a walker), its
+// single-scan fit v = (2, 20) m/s: 0.05 m/s along the beam, sigma_across m/s across it. Returns
+// the track's velocity at birth (the outline's axis not measured) and, in variance, the part of
+// its covariance across the beam.
+Eigen::Vector2d born_across(double sigma_across, const TrackerParams& params,
+                            double& variance_across) {
+  TrackerParams p = params;
+  p.heading.use_outline = false;
+  HandScan h;
+  Group g;
+  const Eigen::Vector2d v(2.0, 20.0);
+  for (int r = 1; r <= 3; ++r) {
+    for (int c = 4; c <= 15; ++c) {
+      const Eigen::Vector3d q(20.0, -0.825 + 0.15 * (c - 4), 0.3 * r);
+      h.set(r, c, q, q.normalized().head<2>().dot(v));
+      g.found.push_back(static_cast<std::uint32_t>(h.scan.index(r, c)));
+    }
+  }
+  const Eigen::Matrix3d cov =
+      Eigen::Vector3d(0.05 * 0.05, sigma_across * sigma_across, 0.0).asDiagonal();
+  const Track tr = born_of_fit(h, g, v, cov, 0.03, p);
+  EXPECT_FALSE(tr.small(p));
+  EXPECT_FALSE(tr.outline_cut);
+  variance_across = tr.P(3, 3);
+  return tr.velocity();
+}
+
+TEST(TrackingBirth, ADirectionTheScanResolvesNoBetterThanTheCapIsBornAtZero) {
+  const TrackerParams p;
+  const double cap = p.motion.max_initial_velocity_sigma_mps;  // 6 m/s
+  double var = 0.0;
+  // Resolved to 3 m/s across the beam: the fit's velocity, its variance as the fit gives it
+  // (and the yaw rate's part).
+  EXPECT_LT((born_across(3.0, p, var) - Eigen::Vector2d(2.0, 20.0)).norm(), 1e-9);
+  const double resolved_var = var;
+  EXPECT_GE(resolved_var, 9.0);
+  // Resolved to 10 m/s, worse than the cap: the velocity along the beam alone, the variance
+  // across it the cap's (6^2 = 27 more than 3^2), not the fit's (10^2).
+  EXPECT_LT((born_across(10.0, p, var) - Eigen::Vector2d(2.0, 0.0)).norm(), 1e-9);
+  EXPECT_NEAR(var - resolved_var, cap * cap - 9.0, 1e-6);
+  // Control: with the cap at 12 m/s the same fit is resolved well enough.
+  TrackerParams wide;
+  wide.motion.max_initial_velocity_sigma_mps = 12.0;
+  EXPECT_LT((born_across(10.0, wide, var) - Eigen::Vector2d(2.0, 20.0)).norm(), 1e-9);
+  EXPECT_NEAR(var - resolved_var, 100.0 - 9.0, 1e-6);
 }
 
 // ---- Background model and claims ----------------------------------------------------------

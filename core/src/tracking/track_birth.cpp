@@ -45,9 +45,10 @@ Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, co
   Track tr;
   tr.id = id;
   // The single-scan covariance, its unobservable direction capped, as the velocity prior. Along a
-  // direction the fit does not observe at all (a standard deviation above kMaxPlausibleSpeedMps:
-  // a fit on a few pixels 130 m away can put 10^9 m/s there) the velocity is taken as 0, as
-  // unknown as the cap says.
+  // direction the fit observes no better than the cap (a standard deviation above
+  // max_initial_velocity_sigma_mps) the velocity is taken as 0, as unknown as the cap says: the
+  // fit's value there is no measurement (a fit on a few pixels 130 m away can put 10^9 m/s
+  // there, and one over two walkers side by side, 30-60 m/s).
   Eigen::Matrix2d cov = frame.R * ce.velocity.covariance.topLeftCorner<2, 2>() * frame.R.transpose();
   const double cap = p.motion.max_initial_velocity_sigma_mps * p.motion.max_initial_velocity_sigma_mps;
   const bool has_covariance = cov.allFinite();
@@ -56,7 +57,7 @@ Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, co
   Eigen::Vector2d v = frame.R * ce.velocity.velocity_mps.head<2>();
   if (!has_covariance || !v.allFinite()) v.setZero();
   for (int k = 0; k < 2; ++k) {
-    if (eig.eigenvalues()(k) > kMaxPlausibleSpeedMps * kMaxPlausibleSpeedMps) {
+    if (eig.eigenvalues()(k) > cap) {
       v -= eig.eigenvectors().col(k).dot(v) * eig.eigenvectors().col(k);
     }
   }

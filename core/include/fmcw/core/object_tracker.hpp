@@ -70,7 +70,10 @@ struct TrackerParams {
     double accel_sigma_mps2 = 2.5;        ///< acceleration noise [m/s^2]
     double yaw_accel_sigma_rps2 = 0.8;    ///< yaw acceleration noise [rad/s^2]
     double initial_yaw_rate_sigma_rps = 0.4;      ///< yaw rate at birth [rad/s]
-    double max_initial_velocity_sigma_mps = 6.0;  ///< caps the unobservable direction at birth [m/s]
+    /// A track's velocity prior at birth is its cluster's single-scan fit, the fit's standard
+    /// deviation capped at this; along a direction the fit resolves no better than this, the
+    /// prior's velocity is 0 (the fit's value there is no measurement) [m/s].
+    double max_initial_velocity_sigma_mps = 6.0;
     double max_yaw_rate_rps = 1.5;        ///< bound of a track's yaw rate [rad/s]
     /// Noise matched to the innovations (off by default: docs/EVALUATION.md, "A noise that
     /// follows the track"). The noises above are those of a manoeuvring object; a vehicle
