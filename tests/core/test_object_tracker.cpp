@@ -503,6 +503,74 @@ TEST(ObjectTracker, AWalkerSharingItsClusterWithTheNextStaysAWalker) {
   EXPECT_GT(rigid.velocity, 0.5);
 }
 
+// Two walkers 15 m ahead crossing side by side at 1.2 m/s, the second 0.9 m behind the first, in
+// one cluster (the track is born over both: its box 1.5 m long, longer than a walker) until
+// frame 10, when the second turns off out of view; the first swings a leg (a box below its
+// torso, 0.3 m ahead of it and behind it) whose Doppler is its own. Over frames 25 .. 39: the
+// first walker's largest velocity and yaw-rate errors, and the frames in which its track is the
+// one born over both (the first track) and a walker (Track::walker, its box under
+// small_object_m).
+struct LeftWalker {
+  WalkerErrors err;
+  int first_track_walker = 0;
+};
+
+LeftWalker walker_left_by_its_companion() {
+  MotionPipeline robust(MotionPipelineParams::preset("robust"));
+  const TrackerParams tp;
+  ObjectTracker tracker(tp);
+  const Eigen::Vector3d v(0.0, 1.2, 0.0);
+  const double w = 2.0 * M_PI * 0.9;  // stride angular frequency [rad/s]
+  LeftWalker out;
+  std::int32_t first = 0;
+  for (int k = 0; k < 40; ++k) {
+    std::vector<SyntheticBox> actors = walkers_in_file(k, v, -2.0, 0, -0.9);
+    if (k >= 10) actors.pop_back();
+    SyntheticBox& torso = actors.front();
+    torso.center_m.z() = 1.3;
+    torso.half_extent_m.z() = 0.5;
+    SyntheticBox leg = torso;
+    leg.center_m = Eigen::Vector3d(15.0, torso.center_m.y() + 0.3 * std::sin(w * k * kDt), 0.4);
+    leg.half_extent_m = Eigen::Vector3d(0.1, 0.1, 0.4);
+    leg.velocity_mps = v + Eigen::Vector3d(0.0, 0.3 * w * std::cos(w * k * kDt), 0.0);
+    actors.insert(actors.begin() + 1, leg);  // instance 2; the companion, while there, 3
+    const Frame f = render_actors(k, actors);
+    MotionEstimate e = robust.process(f.scan, static_cast<std::uint64_t>(k));
+    for (std::uint32_t other = 2; other <= actors.size(); ++other) {
+      const ClusterEstimate* a = actor_cluster(f, e, 1);
+      const ClusterEstimate* b = actor_cluster(f, e, other);
+      if (a != nullptr && b != nullptr && a != b) merge_clusters(e, *a, *b);
+    }
+    tracker.update(f.scan, e);
+    if (k == 0 && !tracker.tracks().empty()) first = tracker.tracks().front().id;
+    if (k < 25) continue;
+    const ClusterEstimate* c = actor_cluster(f, e, 1);
+    if (c == nullptr || c->track_id == 0) {
+      ++out.err.untracked;
+      continue;
+    }
+    out.err.velocity = std::max(out.err.velocity, (c->velocity.velocity_mps - v).norm());
+    out.err.yaw_rate = std::max(out.err.yaw_rate, std::abs(c->yaw_rate_rps));
+    for (const Track& t : tracker.tracks()) {
+      const bool small = std::max(t.length_m, t.width_m) < tp.small.small_object_m;
+      if (t.id == c->track_id && t.id == first && t.walker && small) ++out.first_track_walker;
+    }
+  }
+  return out;
+}
+
+TEST(ObjectTracker, AWalkerLeftByItsCompanionIsAWalkerOnItsTrack) {
+  // The outline its updates measure is one walker's (under small_object_m) from frame 7 on, and
+  // the track is a walker from frame 9. (Before, only its box counted: grown over both, it kept
+  // the track a rigid body, whose velocity the leg's Doppler moved by up to 0.39 m/s and which
+  // lost the walker at frame 15 to a new track.)
+  const LeftWalker left = walker_left_by_its_companion();
+  EXPECT_EQ(left.err.untracked, 0);
+  EXPECT_EQ(left.first_track_walker, 15);
+  EXPECT_LT(left.err.velocity, 0.3);
+  EXPECT_EQ(left.err.yaw_rate, 0.0);
+}
+
 // Largest velocity error, over frames 20 .. 39, of a walker 5 m to the right walking away at
 // 1.3 m/s whose leg (a box below the torso) swings 0.3 m ahead of it and behind it.
 double striding_walker_velocity_error(int walker_hits) {

@@ -171,7 +171,10 @@ void update_track_state(Track& tr, const Group& g, const TrackerParams& p) {
     tr.misses = 0;
   }
   if (tr.hits >= p.lifecycle.confirm_hits) tr.confirmed = true;
-  if (!g.empty()) tr.small_hits = std::max(tr.length_m, tr.width_m) < p.small.small_object_m ? tr.small_hits + 1 : 0;
+  if (!g.empty()) {
+    const double extent = std::min(std::max(tr.length_m, tr.width_m), tr.seen_extent_m);
+    tr.small_hits = extent < p.small.small_object_m ? tr.small_hits + 1 : 0;
+  }
   if (!g.empty()) note_extent(tr, p, false);
   const bool slow = tr.velocity().norm() < p.small.walker_max_speed_mps;
   tr.walker = slow && (tr.walker || (p.small.walker_hits > 0 && tr.small_hits >= p.small.walker_hits));

@@ -223,6 +223,7 @@ BoxMeasurement measure_box(Track& tr, const Group& g, bool born, const Frame& fr
                                                                                           : kNone;
   m.centre = tr.centre();
   m.seen = !pixels.empty();
+  tr.seen_extent_m = std::max(tr.length_m, tr.width_m);
   if (!m.seen) return m;
   // Strays are left out of a vehicle's box, not out of a walker's or a group of walkers' (a
   // walker at the end of a row is no stray).
@@ -235,6 +236,7 @@ BoxMeasurement measure_box(Track& tr, const Group& g, bool born, const Frame& fr
     const double walker_cap = std::nextafter(p.small.small_object_m, 0.0);
     const double cap_l = tr.walker ? walker_cap : p.box.max_length_m;
     const double cap_w = tr.walker ? walker_cap : p.box.max_width_m;
+    tr.seen_extent_m = std::max(o.a1 - o.a0, o.b1 - o.b0);
     tr.length_m = std::min(resize ? o.a1 - o.a0 : std::max(tr.length_m, o.a1 - o.a0), cap_l);
     tr.width_m = std::min(resize ? o.b1 - o.b0 : std::max(tr.width_m, o.b1 - o.b0), cap_w);
     tr.z_min_m = o.zmin;  // this frame's: the ground under an object changes at curbs

@@ -47,7 +47,9 @@ struct TrackerParams {
     double doppler_floor_mps = 0.05;             ///< floor of its mean-Doppler noise (gait) [m/s]
     double initial_tangential_sigma_mps = 1.5;   ///< its tangential velocity at birth [m/s]
     /// A track small for walker_hits consecutive updates and slower than walker_max_speed_mps
-    /// is a walker, and stays one while it stays that slow: walkers side by side at one speed
+    /// is a walker, and stays one while it stays that slow. Small: its box, or the outline its
+    /// update measured, under small_object_m (a box only grows: one born over two walkers side
+    /// by side keeps their width after they part). Walkers side by side at one speed
     /// make one cluster, and a box grown over two of them would turn the walker into a rigid
     /// body with a yaw rate. A walker's own pixels are those inside its predicted box (grown by
     /// claims.claim_margin_m), its box stays under small_object_m, and its centre is the median
@@ -385,7 +387,9 @@ struct Track {
   /// shrank), and the updates since (TrackerParams::Turning::shrink_settled).
   double settled_extent_m = 0.0;
   int updates_settled = 0;
-  int small_hits = 0;        ///< consecutive updates with a box under small_object_m
+  int small_hits = 0;        ///< consecutive updates small (TrackerParams::Small::walker_hits)
+  /// The larger side of the outline the last update measured (its box, where it was not measured).
+  double seen_extent_m = 0.0;
   bool walker = false;       ///< see TrackerParams::walker_hits
   /// The last box measured had an end cut sideways, by a head's column edge or an occluder: what
   /// shows may be the corner of a larger body (a car coming into view is born as a small patch).
