@@ -49,9 +49,9 @@ struct TrackerParams {
     /// A track small for walker_hits consecutive updates and slower than walker_max_speed_mps
     /// is a walker, and stays one while it stays that slow. Small: its box, or the outline its
     /// update measured, under small_object_m (a box only grows: one born over two walkers side
-    /// by side keeps their width after they part). Walkers side by side at one speed
-    /// make one cluster, and a box grown over two of them would turn the walker into a rigid
-    /// body with a yaw rate. A walker's own pixels are those inside its predicted box (grown by
+    /// by side keeps their width after they part). Walkers side by side at one speed make one
+    /// cluster, and a box grown over two of them would turn the walker into a rigid body with a
+    /// yaw rate. A walker's own pixels are those inside its predicted box (grown by
     /// claims.claim_margin_m), its box stays under small_object_m, and its centre is the median
     /// of its pixels along the box axes (the torso: the limbs swing about it, and an end of the
     /// outline is a foot or a hand).
