@@ -65,6 +65,7 @@ void TrackerParams::validate() const {
   s.non_negative("walker_hits (0: no walkers)", small.walker_hits);
   s.positive("walker_max_speed_mps", small.walker_max_speed_mps);
   s.non_negative("rigid_patch_sigma_mps (0: never)", small.rigid_patch_sigma_mps);
+  s.positive("companion_sigma_mps", small.companion_sigma_mps);
   const FieldCheck mo{"motion"};
   mo.positive("accel_sigma_mps2", motion.accel_sigma_mps2);
   mo.positive("yaw_accel_sigma_rps2", motion.yaw_accel_sigma_rps2);
@@ -225,6 +226,8 @@ void ObjectTracker::update(const Scan& scan, const ScanBeams& beams, MotionEstim
   std::vector<std::vector<std::uint32_t>> cluster_pixels = pixels_of_clusters(est);
   split_shared_clusters(frame, est, cluster_pixels, tracks_, boxes, p);
   split_by_doppler(frame, est, cluster_pixels, tracks_, boxes, p);
+  const std::vector<int> companion_of =
+      split_off_companions(frame, est, cluster_pixels, tracks_, boxes, p);
   std::vector<Group> groups(tracks_.size());
   Association assoc = associate(frame, cluster_pixels, est, tracks_, boxes, p, groups);
   merge_nested_tracks(frame, tracks_, boxes, p, assoc, groups);
@@ -237,7 +240,8 @@ void ObjectTracker::update(const Scan& scan, const ScanBeams& beams, MotionEstim
   }
   // Birth: new tracks from the clusters no track took, unless they are pieces of a tracked object.
   const std::size_t measured = tracks_.size();
-  birth_tracks(frame, edges, est, cluster_pixels, p, assoc, tracks_, groups, next_id_);
+  birth_tracks(frame, edges, est, cluster_pixels, companion_of, p, assoc, tracks_, groups,
+               next_id_);
   // A track born where a lost one is predicted is that object again: it takes its id.
   for (std::size_t t = measured; t < tracks_.size() && !lost_.empty(); ++t) {
     const int l = lost_track_of(frame, tracks_[t], groups[t].found, lost_, p);

@@ -55,6 +55,19 @@ double split_need(const Track& t, const TrackerParams& p, int least) {
                   p.association.split_min_share * static_cast<double>(t.last_pixels));
 }
 
+// The pixels' own single-scan fit (planar, robust) on their ego-compensated Doppler.
+VelocityEstimate planar_fit(const Frame& frame, const std::vector<std::uint32_t>& px,
+                            const TrackerParams& p) {
+  VelocityRows rows;
+  rows.directions.reserve(px.size());
+  rows.targets_mps.reserve(px.size());
+  for (const std::uint32_t i : px) {
+    rows.directions.push_back(frame.beams.e(i));
+    rows.targets_mps.push_back(frame.row_of(i).y);
+  }
+  return solve_velocity_planar_robust(rows, p.measurement.doppler_sigma_mps);
+}
+
 // Pixels `part` become cluster `slot` (label slot + 1); a new slot (est.clusters.size()) starts
 // as a copy of `whole`.
 void assign_part(const Frame& frame, MotionEstimate& est, std::vector<std::vector<std::uint32_t>>& cluster_pixels,
@@ -73,6 +86,19 @@ void assign_part(const Frame& frame, MotionEstimate& est, std::vector<std::vecto
   }
   ce.centroid_m /= static_cast<double>(part.size());
   cluster_pixels[slot] = std::move(part);
+}
+
+// Cluster c keeps `kept`; `rest` becomes a new cluster with velocity `fit`. Returns its slot.
+std::size_t split_off(const Frame& frame, MotionEstimate& est,
+                      std::vector<std::vector<std::uint32_t>>& cluster_pixels, std::size_t c,
+                      std::vector<std::uint32_t> kept, std::vector<std::uint32_t> rest,
+                      const VelocityEstimate& fit) {
+  const ClusterEstimate whole = est.clusters[c];
+  const std::size_t slot = est.clusters.size();
+  assign_part(frame, est, cluster_pixels, slot, whole, std::move(rest));
+  est.clusters[slot].velocity = fit;
+  assign_part(frame, est, cluster_pixels, c, whole, std::move(kept));
+  return slot;
 }
 
 // Whether track t's box (grown by claims.claim_margin_m) holds the centre of another track of
@@ -213,23 +239,58 @@ void split_by_doppler(const Frame& frame, MotionEstimate& est, std::vector<std::
     if (best < 0) continue;
     // The rest, fitted on its own, must be one rigid motion too (explained as a track's motion
     // must explain a cluster): else no split.
-    VelocityRows rows;
-    rows.directions.reserve(best_rest.size());
-    rows.targets_mps.reserve(best_rest.size());
-    for (const std::uint32_t i : best_rest) {
-      rows.directions.push_back(frame.beams.e(i));
-      rows.targets_mps.push_back(frame.row_of(i).y);  // the Doppler, ego-compensated
-    }
-    const VelocityEstimate rest_fit = solve_velocity_planar_robust(rows, p.measurement.doppler_sigma_mps);
+    const VelocityEstimate rest_fit = planar_fit(frame, best_rest, p);
     if (!(rest_fit.residual_rms_mps <= pa.doppler_tolerance_mps)) continue;
     // The track's part keeps the label (the association finds its Doppler explained); the rest
     // is a cluster of its own, with that fit.
-    const ClusterEstimate whole = est.clusters[c];
-    const std::size_t slot = est.clusters.size();
-    assign_part(frame, est, cluster_pixels, slot, whole, std::move(best_rest));
-    est.clusters[slot].velocity = rest_fit;
-    assign_part(frame, est, cluster_pixels, c, whole, std::move(best_explained));
+    split_off(frame, est, cluster_pixels, c, std::move(best_explained), std::move(best_rest),
+              rest_fit);
   }
+}
+
+std::vector<int> split_off_companions(const Frame& frame, MotionEstimate& est,
+                                      std::vector<std::vector<std::uint32_t>>& cluster_pixels,
+                                      const std::vector<Track>& tracks,
+                                      const std::vector<Box>& boxes, const TrackerParams& p) {
+  std::vector<int> companion_of(est.clusters.size(), -1);
+  if (!p.small.split_companions || !(p.fragments.small_host_ratio > 0.0)) return companion_of;
+  const std::size_t k0 = est.clusters.size();
+  std::vector<std::uint32_t> mine, rest;
+  for (std::size_t c = 0; c < k0; ++c) {
+    const std::vector<std::uint32_t>& px = cluster_pixels[c];
+    const int least = p.association.min_pixels_at(est.clusters[c].centroid_m.head<2>().norm());
+    if (static_cast<int>(px.size()) < 2 * least) continue;
+    const WorldPixels w = world_pixels(frame, px);
+    // The walker whose box holds the most of the cluster's pixels, with enough outside it.
+    int best = -1;
+    std::vector<std::uint32_t> best_mine, best_rest;
+    for (std::size_t t = 0; t < tracks.size(); ++t) {
+      const Track& tr = tracks[t];
+      if (!tr.walker || !tr.confirmed || tr.misses != 0 || !reaches(boxes[t], w, p)) continue;
+      mine.clear();
+      rest.clear();
+      for (std::size_t n = 0; n < px.size(); ++n) {
+        (boxes[t].contains(w.q[n], p.claims.claim_margin_m) ? mine : rest).push_back(px[n]);
+      }
+      const auto n_mine = static_cast<double>(mine.size());
+      const auto n_rest = static_cast<double>(rest.size());
+      if (n_mine < least || n_rest < least || n_rest * p.fragments.small_host_ratio <= n_mine) {
+        continue;
+      }
+      if (best < 0 || mine.size() > best_mine.size()) {
+        best = static_cast<int>(t);
+        best_mine.swap(mine);
+        best_rest.swap(rest);
+      }
+    }
+    if (best < 0) continue;
+    const VelocityEstimate rest_fit = planar_fit(frame, best_rest, p);
+    const std::size_t slot = split_off(frame, est, cluster_pixels, c, std::move(best_mine),
+                                       std::move(best_rest), rest_fit);
+    companion_of.resize(est.clusters.size(), -1);
+    companion_of[slot] = best;
+  }
+  return companion_of;
 }
 
 double doppler_deviation(const Frame& frame, const std::vector<std::uint32_t>& px, const Track& track) {

@@ -39,6 +39,18 @@ void split_shared_clusters(const Frame& frame, MotionEstimate& est, std::vector<
 void split_by_doppler(const Frame& frame, MotionEstimate& est, std::vector<std::vector<std::uint32_t>>& cluster_pixels,
                       const std::vector<Track>& tracks, const std::vector<Box>& boxes, const TrackerParams& p);
 
+/// A confirmed walker's cluster (the walker seen this frame) holding, outside the walker's
+/// predicted box grown by claims.claim_margin_m, at least as many pixels as
+/// association.min_pixels_at its range asks and more than a fragments.small_host_ratio-th of
+/// those inside (a walker beside it, not a limb): the pixels outside become a cluster of their
+/// own, with their own single-scan fit. Of several such walkers, the one whose box holds the
+/// most. Returns, for each cluster, the walker it was split off (-1: none). Off when
+/// small.split_companions is false or fragments.small_host_ratio is 0.
+std::vector<int> split_off_companions(const Frame& frame, MotionEstimate& est,
+                                      std::vector<std::vector<std::uint32_t>>& cluster_pixels,
+                                      const std::vector<Track>& tracks,
+                                      const std::vector<Box>& boxes, const TrackerParams& p);
+
 /// Median |Doppler - the track's prediction| over (at most about 256 of) the pixels.
 double doppler_deviation(const Frame& frame, const std::vector<std::uint32_t>& pixels, const Track& track);
 

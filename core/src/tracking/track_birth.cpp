@@ -13,16 +13,28 @@ namespace fmcw::core::tracking {
 
 namespace {
 
-// A small object's prior: the radial part as measured, the tangential part unknown, the yaw
-// rate unrelated to either (a small object's Doppler does not see it).
-void small_object_prior(Track& tr, const Eigen::Vector2d& v, const Eigen::Matrix2d& cov, const Eigen::Vector2d& d,
-                        const TrackerParams& p) {
+// A small object's prior: the radial part as measured, the tangential part unknown (or, for a
+// walker's companion whose radial velocity agrees with the walker's, the walker's), the yaw rate
+// unrelated to either (a small object's Doppler does not see it).
+void small_object_prior(Track& tr, const Eigen::Vector2d& v, const Eigen::Matrix2d& cov,
+                        const Eigen::Vector2d& d, const Track* companion, const TrackerParams& p) {
   const double floor = p.measurement.doppler_sigma_mps * p.measurement.doppler_sigma_mps;
   const Eigen::Vector2d radial = -d.normalized();
   const Eigen::Vector2d tangential(-radial.y(), radial.x());
   const double var_r = std::max(floor, radial.dot(cov * radial));
-  const double st = p.small.initial_tangential_sigma_mps;
-  tr.x.segment<2>(2) = radial.dot(v) * radial;
+  double st = p.small.initial_tangential_sigma_mps;
+  double vt = 0.0;
+  if (companion != nullptr) {
+    const Eigen::Vector2d vw = companion->velocity();
+    const Eigen::Matrix2d pw = companion->P.block<2, 2>(2, 2);
+    const double pace = p.small.companion_sigma_mps * p.small.companion_sigma_mps;
+    const double apart = radial.dot(v - vw);
+    if (apart * apart <= 9.0 * (var_r + radial.dot(pw * radial) + pace)) {
+      vt = tangential.dot(vw);
+      st = std::min(st, std::sqrt(tangential.dot(pw * tangential) + pace));
+    }
+  }
+  tr.x.segment<2>(2) = radial.dot(v) * radial + vt * tangential;
   tr.P.topLeftCorner<2, 2>() = Eigen::Matrix2d::Identity() * (p.small.position_sigma_m * p.small.position_sigma_m);
   tr.P.block<2, 2>(2, 2) = var_r * radial * radial.transpose() + st * st * tangential * tangential.transpose();
   tr.P.block<2, 1>(2, 4).setZero();
@@ -40,8 +52,8 @@ bool rigid_fast_patch(const VelocityEstimate& scan, const Eigen::Vector2d& v, do
 
 }  // namespace
 
-Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, const Frame& frame, const ViewEdges& edges,
-                  const TrackerParams& p) {
+Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, const Frame& frame,
+                  const ViewEdges& edges, const TrackerParams& p, const Track* companion) {
   Track tr;
   tr.id = id;
   // The single-scan covariance, its unobservable direction capped, as the velocity prior. Along a
@@ -81,7 +93,7 @@ Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, co
   // (TrackerParams::Small::rigid_patch_sigma_mps).
   const bool corner = (tr.outline_cut && std::abs(v.dot(d.normalized())) > p.small.walker_max_speed_mps) ||
                       rigid_fast_patch(ce.velocity, v, eig.eigenvalues()(1), p);
-  if (tr.small(p) && !corner && d.norm() > 0.0) small_object_prior(tr, v, cov, d, p);
+  if (tr.small(p) && !corner && d.norm() > 0.0) small_object_prior(tr, v, cov, d, companion, p);
   // Where the outline shows the body's axis, the prior's line of velocity and yaw rate meets it.
   Mat5 info = Mat5::Zero();
   Vec5 grad = Vec5::Zero();
@@ -115,7 +127,8 @@ int holding_walker(const Eigen::Vector2d& q, std::size_t n, const std::vector<Tr
 }  // namespace
 
 void birth_tracks(const Frame& frame, const ViewEdges& edges, const MotionEstimate& est,
-                  const std::vector<std::vector<std::uint32_t>>& cluster_pixels, const TrackerParams& p, Association& assoc,
+                  const std::vector<std::vector<std::uint32_t>>& cluster_pixels,
+                  const std::vector<int>& companion_of, const TrackerParams& p, Association& assoc,
                   std::vector<Track>& tracks, std::vector<Group>& groups, std::int32_t& next_id) {
   const std::size_t measured = tracks.size();
   std::vector<Box> measured_boxes(measured);
@@ -158,7 +171,10 @@ void birth_tracks(const Frame& frame, const ViewEdges& edges, const MotionEstima
     Group g;
     g.clusters.push_back(static_cast<std::int32_t>(c + 1));
     g.found = cluster_pixels[c];
-    tracks.push_back(start_track(est.clusters[c], g, next_id++, frame, edges, p));
+    const int walker = c < companion_of.size() ? companion_of[c] : -1;
+    const Track* companion = walker >= 0 ? &tracks[static_cast<std::size_t>(walker)] : nullptr;
+    Track born = start_track(est.clusters[c], g, next_id++, frame, edges, p, companion);
+    tracks.push_back(std::move(born));
     assoc.owner[c] = static_cast<int>(tracks.size()) - 1;
     if (holds_pieces(tracks.back(), p)) footprints.add(groups.size(), g);
     groups.push_back(std::move(g));

@@ -12,9 +12,11 @@ namespace fmcw::core::tracking {
 /// open. One scan measures v_app = v + omega z x (o - c): velocity and yaw rate are known only
 /// along that line, so omega ~ N(0, s0^2) and v = v_app - omega z x (o - c) are correlated from
 /// the start, and later positions move the estimate along the line instead of fighting the
-/// Doppler. A small object's tangential velocity is not trusted at all.
-Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, const Frame& frame, const ViewEdges& edges,
-                  const TrackerParams& p);
+/// Doppler. A small object's tangential velocity is not trusted at all: its prior is 0, or the
+/// tangential velocity of `companion` (the walker it was split off, split_off_companions, if
+/// not null) where their radial velocities agree (TrackerParams::Small::companion_sigma_mps).
+Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, const Frame& frame,
+                  const ViewEdges& edges, const TrackerParams& p, const Track* companion = nullptr);
 
 /// The births of a frame, from the clusters no track took, the largest first (a body before its
 /// wheels). A cluster of at most fragments.max_pixels pixels beside a larger tracked group's
@@ -23,9 +25,11 @@ Track start_track(const ClusterEstimate& ce, const Group& g, std::int32_t id, co
 /// fragments.small_host_ratio times its pixels (a limb), and one inside a confirmed vehicle's
 /// measured box (inside_vehicle). The
 /// others with min_cluster_pixels and a valid single-scan velocity start tracks (appended to
-/// tracks and groups, ids from next_id).
+/// tracks and groups, ids from next_id); companion_of names, for each cluster, the walker it was
+/// split off (-1: none; clusters beyond its size have none).
 void birth_tracks(const Frame& frame, const ViewEdges& edges, const MotionEstimate& est,
-                  const std::vector<std::vector<std::uint32_t>>& cluster_pixels, const TrackerParams& p, Association& assoc,
+                  const std::vector<std::vector<std::uint32_t>>& cluster_pixels,
+                  const std::vector<int>& companion_of, const TrackerParams& p, Association& assoc,
                   std::vector<Track>& tracks, std::vector<Group>& groups, std::int32_t& next_id);
 
 }  // namespace fmcw::core::tracking

@@ -65,6 +65,17 @@ struct TrackerParams {
     /// wide angle. It is born with the scan's velocity, as a larger object is, not with the
     /// radial part alone. 0: never [m/s].
     double rigid_patch_sigma_mps = 0.25;
+    /// Walkers side by side at one pace make one cluster, and the track of one of them held
+    /// both: its box, its velocity and its covariance a walker's, the other's not. The pixels
+    /// of a confirmed walker's cluster outside its predicted box (grown by
+    /// claims.claim_margin_m), enough to start a track at their range and more than a
+    /// fragments.small_host_ratio-th of those inside (a walker beside it, not a limb), become a
+    /// cluster of their own, with their own single-scan fit; a small track born from them takes
+    /// the walker's tangential velocity as its prior (companions walk at about one pace), the
+    /// walker's variance plus companion_sigma_mps squared, where their radial velocities agree
+    /// within three standard deviations.
+    bool split_companions = true;
+    double companion_sigma_mps = 0.5;  ///< [m/s]
   } small;
 
   /// The constant-turn-rate filter.
