@@ -476,8 +476,8 @@ WalkerErrors walker_beside_another(const TrackerParams& tp, WalkerErrors* second
     if (k < 14) continue;
     std::int32_t first_track = 0;
     for (std::uint32_t n = 1; n <= actors.size(); ++n) {
-      WalkerErrors& out = n == 1 ? err : *second;
       if (n == 2 && second == nullptr) break;
+      WalkerErrors& out = n == 1 ? err : *second;
       const ClusterEstimate* c = actor_cluster(f, e, n);
       if (c == nullptr || c->track_id == 0 || (n == 2 && c->track_id == first_track)) {
         ++out.untracked;
