@@ -173,8 +173,7 @@ void birth_tracks(const Frame& frame, const ViewEdges& edges, const MotionEstima
     g.found = cluster_pixels[c];
     const int walker = c < companion_of.size() ? companion_of[c] : -1;
     const Track* companion = walker >= 0 ? &tracks[static_cast<std::size_t>(walker)] : nullptr;
-    Track born = start_track(est.clusters[c], g, next_id++, frame, edges, p, companion);
-    tracks.push_back(std::move(born));
+    tracks.push_back(start_track(est.clusters[c], g, next_id++, frame, edges, p, companion));
     assoc.owner[c] = static_cast<int>(tracks.size()) - 1;
     if (holds_pieces(tracks.back(), p)) footprints.add(groups.size(), g);
     groups.push_back(std::move(g));
