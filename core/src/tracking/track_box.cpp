@@ -202,6 +202,45 @@ Anchor anchor(const Outline& o, const Eigen::Vector2d& axis, double lo, double h
   return {std::clamp(pc.dot(axis), hi - 0.5 * size, lo + 0.5 * size), 0, sideways};
 }
 
+// A small, slow track that is not yet a walker, across the line of sight: where one edge of its
+// outline is cut sideways (an occluder beside it, a head's edge) and the other is not, the uncut
+// edge is its silhouette and the centre lies half its width inward from it. Its width: the widest
+// its outline has shown across the sight (Track::across_extent_m, under small_object_m). A walker
+// coming out from behind another shows a sliver that grows: the sliver's middle lies ahead of the
+// body's by half of what is still hidden, and moves slower than the body while it grows. A width
+// that grew grew at the cut edge: the prediction moves with half the growth, as a vehicle's does
+// (at the first update after birth that measures it, the whole width counts as grown).
+void centre_from_silhouette(Track& tr, const Outline& o, bool born, const Frame& frame,
+                            const TrackerParams& p, Eigen::Vector2d& centre) {
+  const Eigen::Vector2d d = (o.ref - frame.position).normalized();
+  const Eigen::Vector2d t(-d.y(), d.x());  // across the line of sight
+  double t0 = kInf, t1 = -kInf;
+  for (const Eigen::Vector2d& q : o.pts) {
+    const double v = (q - o.ref).dot(t);
+    t0 = std::min(t0, v);
+    t1 = std::max(t1, v);
+  }
+  const double near_edge = 0.05 + 0.1 * (t1 - t0);
+  bool cut0 = false, cut1 = false;
+  for (const Cut& c : o.cuts) {
+    if (!c.sideways) continue;
+    const double v = (c.at - o.ref).dot(t);
+    cut0 = cut0 || (c.direction.dot(t) < -p.box.view_cut_cosine && v <= t0 + near_edge);
+    cut1 = cut1 || (c.direction.dot(t) > p.box.view_cut_cosine && v >= t1 - near_edge);
+  }
+  const double before = born ? 0.0 : tr.across_extent_m;
+  tr.across_extent_m =
+      std::min(std::max(before, t1 - t0), std::nextafter(p.small.small_object_m, 0.0));
+  if (cut0 == cut1) return;
+  const double w = std::max(tr.across_extent_m, t1 - t0);
+  const double centre_t = cut0 ? t1 - 0.5 * w : t0 + 0.5 * w;
+  centre += (centre_t - (centre - o.ref).dot(t)) * t;
+  if (!born) {
+    const double side = cut0 ? -1.0 : 1.0;  // the cut edge
+    tr.x.head<2>() += 0.5 * std::max(0.0, tr.across_extent_m - before) * side * t;
+  }
+}
+
 }  // namespace
 
 BoxMeasurement measure_box(Track& tr, const Group& g, bool born, const Frame& frame, const ViewEdges& edges,
@@ -266,6 +305,10 @@ BoxMeasurement measure_box(Track& tr, const Group& g, bool born, const Frame& fr
     // group of walkers grows and shrinks as they part and meet, and its centre is measured.
     if (!resize && tr.velocity().norm() > p.small.walker_max_speed_mps) {
       tr.x.head<2>() -= 0.5 * ((tr.length_m - length_before) * along.end * u + (tr.width_m - width_before) * across.end * wv);
+    }
+    if (p.small.centre_from_silhouette && !m.centre_from_claims && small_track &&
+        tr.velocity().norm() <= p.small.walker_max_speed_mps) {
+      centre_from_silhouette(tr, o, born, frame, p, m.centre);
     }
   }
   return m;

@@ -76,6 +76,13 @@ struct TrackerParams {
     /// within three standard deviations.
     bool split_companions = true;
     double companion_sigma_mps = 0.5;  ///< [m/s]
+    /// A small track at a walker's pace, not yet a walker: where one edge of its outline across
+    /// the line of sight is cut sideways (an occluder beside it, a head's edge) and the other is
+    /// not, its centre is measured half its width (the widest it has shown across the line of
+    /// sight, Track::across_extent_m) in from the uncut edge, not from the middle of what shows.
+    /// A walker coming out from behind another shows a growing sliver, whose middle lies ahead
+    /// of its body and moves slower than it.
+    bool centre_from_silhouette = true;
   } small;
 
   /// The constant-turn-rate filter.
@@ -402,6 +409,9 @@ struct Track {
   /// The larger side of the outline the last update measured (its box, where it was not measured).
   double seen_extent_m = 0.0;
   bool walker = false;       ///< see TrackerParams::walker_hits
+  /// The widest its outline has shown across the line of sight (small tracks at a walker's pace,
+  /// TrackerParams::Small::centre_from_silhouette) [m].
+  double across_extent_m = 0.0;
   /// The last box measured had an end cut sideways, by a head's column edge or an occluder: what
   /// shows may be the corner of a larger body (a car coming into view is born as a small patch).
   bool outline_cut = false;
