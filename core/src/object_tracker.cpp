@@ -64,6 +64,7 @@ void TrackerParams::validate() const {
   s.positive("initial_tangential_sigma_mps", small.initial_tangential_sigma_mps);
   s.non_negative("walker_hits (0: no walkers)", small.walker_hits);
   s.positive("walker_max_speed_mps", small.walker_max_speed_mps);
+  s.positive("walker_box_m", small.walker_box_m);
   s.non_negative("rigid_patch_sigma_mps (0: never)", small.rigid_patch_sigma_mps);
   s.positive("companion_sigma_mps", small.companion_sigma_mps);
   const FieldCheck mo{"motion"};

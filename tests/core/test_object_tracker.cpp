@@ -941,6 +941,7 @@ TEST(ObjectTracker, RejectsBadParametersNamingTheField) {
        "tracking.association.min_far_cluster_pixels must be <= min_cluster_pixels (8), got 9"},
       {[](TrackerParams& p) { p.fragments.small_host_ratio = -1.0; }, "tracking.fragments.small_host_ratio (0: never) must be >= 0, got -1"},
       {[](TrackerParams& p) { p.box.occlusion_gap_m = -0.5; }, "tracking.box.occlusion_gap_m (0: no occluders) must be >= 0, got -0.5"},
+      {[](TrackerParams& p) { p.small.walker_box_m = 0.0; }, "tracking.small.walker_box_m must be > 0, got 0"},
       {[](TrackerParams& p) { p.box.stray_gap_m = -2.0; }, "tracking.box.stray_gap_m (0: every pixel counts) must be >= 0, got -2"},
       {[](TrackerParams& p) { p.box.stray_share = 0.5; }, "tracking.box.stray_share must be in [0, 0.5), got 0.5"},
       {[](TrackerParams& p) { p.heading.min_length_m = 0.0; }, "tracking.heading.min_length_m must be > 0, got 0"},

@@ -380,6 +380,46 @@ TEST(TrackingBox, AnExtentGrowingAtTheEndNotSeenMovesThePredictionNotTheMeasurem
   EXPECT_NEAR(tr.x(1), 15.9, 1e-12);  // across, nothing grew
 }
 
+// A walker's track heading along +x at 1.2 m/s, centre (15.5, 3.5), box 0.6 x 0.5 m, and an
+// outline 1.2 m long: its own pixels from x = 15.3 to 15.75 and a second walker's from 14.55 to
+// 14.95, 0.55-0.95 m behind its centre, in its cluster. Returns the track after its box is
+// measured.
+Track walker_followed_closely(const TrackerParams& p) {
+  HandScan h;
+  for (int n = 0; n <= 10; ++n) {
+    const double x = n < 5 ? 14.55 + 0.1 * n : 15.3 + 0.09 * (n - 5);
+    h.set(2, 2 + n, Eigen::Vector3d(x, 3.5, 0.5), 1.2);
+  }
+  const ScanBeams beams(h.scan);
+  const Frame frame = standing_frame(h.scan, beams);
+  Track tr;
+  tr.x << 15.5, 3.5, 1.2, 0.0, 0.0;
+  tr.length_m = 0.6;
+  tr.width_m = 0.5;
+  tr.heading_rad = tr.extents_heading_rad = 0.0;
+  tr.walker = true;
+  measure_box(tr, every_valid_pixel(h.scan), false, frame, ViewEdges(h.scan, 0.0), p);
+  return tr;
+}
+
+TEST(TrackingBox, AWalkersBoxStopsShortOfTheWalkerBehindIt) {
+  // Capped at walker_box_m (0.9 m), the box grown by claims.claim_margin_m (0.25 m) reaches
+  // 0.7 m behind the centre: the second walker's centre, 0.75 m behind, is outside it, and its
+  // pixels are split off as a companion's. Capped at small_object_m (1.2, before), the box
+  // holds it.
+  const TrackerParams p;
+  const Track tr = walker_followed_closely(p);
+  EXPECT_NEAR(tr.length_m, 0.9, 1e-12);
+  const Eigen::Vector2d behind(14.75, 3.5);
+  EXPECT_FALSE(box_of(tr).contains(behind, p.claims.claim_margin_m));
+  EXPECT_TRUE(box_of(tr).contains(Eigen::Vector2d(15.1, 3.5), p.claims.claim_margin_m));
+  TrackerParams wide;
+  wide.small.walker_box_m = 1.2;
+  const Track before = walker_followed_closely(wide);
+  EXPECT_NEAR(before.length_m, 1.2, 1e-5);  // the outline's (float points)
+  EXPECT_TRUE(box_of(before).contains(behind, wide.claims.claim_margin_m));
+}
+
 TEST(TrackingBox, AFewPixelsFarBesideAVehicleAreNoPartOfItsBox) {
   // A car's side, 60 pixels from x = 10 to 14.4 at y = 15, its track heading along +x at 5 m/s
   // with a box 1.8 m wide. One more pixel of its cluster lies 10 m beside it (a pole behind its

@@ -271,8 +271,10 @@ BoxMeasurement measure_box(Track& tr, const Group& g, bool born, const Frame& fr
   const double length_before = tr.length_m;
   const double width_before = tr.width_m;
   if (!m.centre_from_claims) {
-    // A walker stays small (just under small_object_m: the limbs reach out of its box).
-    const double walker_cap = std::nextafter(p.small.small_object_m, 0.0);
+    // A walker stays small (at most walker_box_m, under small_object_m: the limbs reach out of
+    // its box).
+    const double walker_cap =
+        std::min(p.small.walker_box_m, std::nextafter(p.small.small_object_m, 0.0));
     const double cap_l = tr.walker ? walker_cap : p.box.max_length_m;
     const double cap_w = tr.walker ? walker_cap : p.box.max_width_m;
     tr.seen_extent_m = std::max(o.a1 - o.a0, o.b1 - o.b0);

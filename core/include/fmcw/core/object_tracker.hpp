@@ -52,11 +52,16 @@ struct TrackerParams {
     /// by side keeps their width after they part). Walkers side by side at one speed make one
     /// cluster, and a box grown over two of them would turn the walker into a rigid body with a
     /// yaw rate. A walker's own pixels are those inside its predicted box (grown by
-    /// claims.claim_margin_m), its box stays under small_object_m, and its centre is the median
-    /// of its pixels along the box axes (the torso: the limbs swing about it, and an end of the
-    /// outline is a foot or a hand).
+    /// claims.claim_margin_m), its box is at most walker_box_m on each axis, and its centre is
+    /// the median of its pixels along the box axes (the torso: the limbs swing about it, and an
+    /// end of the outline is a foot or a hand).
     int walker_hits = 3;
     double walker_max_speed_mps = 3.0;
+    /// The largest a walker's box grows on either axis (under small_object_m). Its box holds the
+    /// largest extents its outline has shown, a stride's swing included; a box as long as
+    /// small_object_m also held a walker following 0.6-0.8 m behind, whose pixels then moved the
+    /// median centre back and forth between the two [m].
+    double walker_box_m = 0.9;
     /// A small patch whose single scan resolved its whole velocity (the larger standard
     /// deviation of the fit's two horizontal axes at most this), as one rigid motion (residual
     /// RMS at most measurement.doppler_sigma_mps: no swinging limbs), faster than
