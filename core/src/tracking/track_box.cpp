@@ -206,10 +206,11 @@ Anchor anchor(const Outline& o, const Eigen::Vector2d& axis, double lo, double h
 // outline is cut sideways (an occluder beside it, a head's edge) and the other is not, the uncut
 // edge is its silhouette and the centre lies half its width inward from it. Its width: the widest
 // its outline has shown across the sight (Track::across_extent_m, under small_object_m). A walker
-// coming out from behind another shows a sliver that grows: the sliver's middle lies ahead of the
-// body's by half of what is still hidden, and moves slower than the body while it grows. A width
-// that grew grew at the cut edge: the prediction moves with half the growth, as a vehicle's does
-// (at the first update after birth that measures it, the whole width counts as grown).
+// coming into a head's view at its edge, or out from behind something nearer, shows a sliver that
+// grows: its middle lies off the body's by half of what is still hidden, and moves slower than the
+// body while it grows. A width that grew grew at the cut edge: the prediction moves with half the
+// growth, as a vehicle's does (at the first update after birth that measures it, the whole width
+// counts as grown).
 void centre_from_silhouette(Track& tr, const Outline& o, bool born, const Frame& frame,
                             const TrackerParams& p, Eigen::Vector2d& centre) {
   const Eigen::Vector2d d = (o.ref - frame.position).normalized();

@@ -85,8 +85,8 @@ struct TrackerParams {
     /// the line of sight is cut sideways (an occluder beside it, a head's edge) and the other is
     /// not, its centre is measured half its width (the widest it has shown across the line of
     /// sight, Track::across_extent_m) in from the uncut edge, not from the middle of what shows.
-    /// A walker coming out from behind another shows a growing sliver, whose middle lies ahead
-    /// of its body and moves slower than it.
+    /// A walker coming into a head's view at its edge, or out from behind something nearer,
+    /// shows a growing sliver, whose middle lies off its body and moves slower than it.
     bool centre_from_silhouette = true;
   } small;
 
