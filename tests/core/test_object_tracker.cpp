@@ -22,10 +22,13 @@ namespace {
 
 constexpr double kDt = 0.1;
 
-// Frame k of a scene with the given actors (instances 1, 2, ...).
-Frame render_actors(int k, const std::vector<SyntheticBox>& actors, double noise = 1.0) {
+// Frame k of a scene with the given actors (instances 1, 2, ...) and, beside a few far static
+// boxes, the static boxes `more_static`.
+Frame render_actors(int k, const std::vector<SyntheticBox>& actors, double noise = 1.0,
+                    const std::vector<SyntheticBox>& more_static = {}) {
   SyntheticSceneParams p;
   p.actors = actors;
+  p.static_boxes = more_static;
   // A few static boxes so the world has more than the ground.
   for (int j = 0; j < 6; ++j) {
     SyntheticBox b;
@@ -548,6 +551,7 @@ EmergingWalker walker_from_behind_a_pillar(const TrackerParams& tp) {
   MotionPipeline robust(MotionPipelineParams::preset("robust"));
   ObjectTracker tracker(tp);
   const Eigen::Vector3d v(-0.6, 1.2, 0.0);
+  const SyntheticBox pillar = moving_box({10.0, 0.0, 1.5}, {0.4, 0.4, 1.5}, Eigen::Vector3d::Zero());
   EmergingWalker out;
   int first = -1;
   for (int k = 0; k < 30; ++k) {
@@ -555,15 +559,7 @@ EmergingWalker walker_from_behind_a_pillar(const TrackerParams& tp) {
     walker.center_m = Eigen::Vector3d(15.0, -0.2, 0.9) + v * (k * kDt);
     walker.half_extent_m = Eigen::Vector3d(0.25, 0.3, 0.9);
     walker.velocity_mps = v;
-    SyntheticSceneParams sp;
-    sp.actors = {walker};
-    sp.static_boxes.push_back(
-        moving_box({10.0, 0.0, 1.5}, {0.4, 0.4, 1.5}, Eigen::Vector3d::Zero()));
-    sp.range_noise_m = 0.025;
-    sp.velocity_noise_mps = 0.031;
-    sp.seed = 100 + static_cast<std::uint64_t>(k);
-    Frame f = render_synthetic_scan(sp);
-    f.scan.stamp_s = k * kDt;
+    const Frame f = render_actors(k, {walker}, 1.0, {pillar});
     MotionEstimate e = robust.process(f.scan, static_cast<std::uint64_t>(k));
     tracker.update(f.scan, e);
     const ClusterEstimate* c = actor_cluster(f, e, 1);

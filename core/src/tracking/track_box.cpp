@@ -176,20 +176,35 @@ struct Anchor {
 // unless the view cuts it there (a car beside the ego, its rear beyond a head's edge). Anchored
 // at such an end; with none, the predicted centre (pc, relative to ref), brought into the
 // interval, stands for the measurement. s: the sensor relative to ref.
-Anchor anchor(const Outline& o, const Eigen::Vector2d& axis, double lo, double hi, double size, const Eigen::Vector2d& s,
-              const Eigen::Vector2d& pc, bool born, const TrackerParams::Box& p) {
-  // A cut counts at the end its pixel lies at (a seam between stitched heads runs through an
-  // object that spans it, away from its ends).
-  const double near_end = p.view_cut_end_m + 0.05 * (hi - lo);
-  bool cut_lo = false, cut_hi = false, sideways = false;
+// Which ends of the outline along an axis (lo, hi: relative to its ref) the view or an occluder
+// cuts: a cut counts at the end its pixel lies at, within near_end of it, pointing out of that
+// end (a seam between stitched heads runs through an object that spans it, away from its ends).
+// sideways: a cut at either end is sideways; with sideways_only, only sideways cuts count.
+struct EndCuts {
+  bool lo = false, hi = false, sideways = false;
+};
+
+EndCuts end_cuts(const Outline& o, const Eigen::Vector2d& axis, double lo, double hi,
+                 double near_end, double cosine, bool sideways_only) {
+  EndCuts e;
   for (const Cut& cut : o.cuts) {
+    if (sideways_only && !cut.sideways) continue;
     const double along = (cut.at - o.ref).dot(axis);
-    const bool lo_here = cut.direction.dot(axis) < -p.view_cut_cosine && along <= lo + near_end;
-    const bool hi_here = cut.direction.dot(axis) > p.view_cut_cosine && along >= hi - near_end;
-    cut_lo = cut_lo || lo_here;
-    cut_hi = cut_hi || hi_here;
-    sideways = sideways || (cut.sideways && (lo_here || hi_here));
+    const bool lo_here = cut.direction.dot(axis) < -cosine && along <= lo + near_end;
+    const bool hi_here = cut.direction.dot(axis) > cosine && along >= hi - near_end;
+    e.lo = e.lo || lo_here;
+    e.hi = e.hi || hi_here;
+    e.sideways = e.sideways || (cut.sideways && (lo_here || hi_here));
   }
+  return e;
+}
+
+Anchor anchor(const Outline& o, const Eigen::Vector2d& axis, double lo, double hi, double size,
+              const Eigen::Vector2d& s, const Eigen::Vector2d& pc, bool born,
+              const TrackerParams::Box& p) {
+  const EndCuts cuts =
+      end_cuts(o, axis, lo, hi, p.view_cut_end_m + 0.05 * (hi - lo), p.view_cut_cosine, false);
+  const bool cut_lo = cuts.lo, cut_hi = cuts.hi, sideways = cuts.sideways;
   const double sensor = s.dot(axis);
   const bool lo_own = !cut_lo && sensor <= hi;
   const bool hi_own = !cut_hi && sensor >= lo;
@@ -221,14 +236,8 @@ void centre_from_silhouette(Track& tr, const Outline& o, bool born, const Frame&
     t0 = std::min(t0, v);
     t1 = std::max(t1, v);
   }
-  const double near_edge = 0.05 + 0.1 * (t1 - t0);
-  bool cut0 = false, cut1 = false;
-  for (const Cut& c : o.cuts) {
-    if (!c.sideways) continue;
-    const double v = (c.at - o.ref).dot(t);
-    cut0 = cut0 || (c.direction.dot(t) < -p.box.view_cut_cosine && v <= t0 + near_edge);
-    cut1 = cut1 || (c.direction.dot(t) > p.box.view_cut_cosine && v >= t1 - near_edge);
-  }
+  const EndCuts cuts = end_cuts(o, t, t0, t1, 0.05 + 0.1 * (t1 - t0), p.box.view_cut_cosine, true);
+  const bool cut0 = cuts.lo, cut1 = cuts.hi;
   const double before = born ? 0.0 : tr.across_extent_m;
   tr.across_extent_m =
       std::min(std::max(before, t1 - t0), std::nextafter(p.small.small_object_m, 0.0));
