@@ -65,6 +65,8 @@ void TrackerParams::validate() const {
   s.non_negative("walker_hits (0: no walkers)", small.walker_hits);
   s.positive("walker_max_speed_mps", small.walker_max_speed_mps);
   s.positive("walker_box_m", small.walker_box_m);
+  s.non_negative("group_sigma_mps (0: never)", small.group_sigma_mps);
+  s.at_least("vehicle_pace_updates", small.vehicle_pace_updates, 1);
   s.non_negative("rigid_patch_sigma_mps (0: never)", small.rigid_patch_sigma_mps);
   s.positive("companion_sigma_mps", small.companion_sigma_mps);
   const FieldCheck mo{"motion"};

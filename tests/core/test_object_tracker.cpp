@@ -938,6 +938,8 @@ TEST(ObjectTracker, RejectsBadParametersNamingTheField) {
       {[](TrackerParams& p) { p.fragments.small_host_ratio = -1.0; }, "tracking.fragments.small_host_ratio (0: never) must be >= 0, got -1"},
       {[](TrackerParams& p) { p.box.occlusion_gap_m = -0.5; }, "tracking.box.occlusion_gap_m (0: no occluders) must be >= 0, got -0.5"},
       {[](TrackerParams& p) { p.small.walker_box_m = 0.0; }, "tracking.small.walker_box_m must be > 0, got 0"},
+      {[](TrackerParams& p) { p.small.group_sigma_mps = -1.0; }, "tracking.small.group_sigma_mps"},
+      {[](TrackerParams& p) { p.small.vehicle_pace_updates = 0; }, "tracking.small.vehicle_pace_updates must be >= 1, got 0"},
       {[](TrackerParams& p) { p.box.stray_gap_m = -2.0; }, "tracking.box.stray_gap_m (0: every pixel counts) must be >= 0, got -2"},
       {[](TrackerParams& p) { p.box.stray_share = 0.5; }, "tracking.box.stray_share must be in [0, 0.5), got 0.5"},
       {[](TrackerParams& p) { p.heading.min_length_m = 0.0; }, "tracking.heading.min_length_m must be > 0, got 0"},
@@ -1494,6 +1496,99 @@ TEST(ObjectTracker, ATrackBornOnAFitThatSeesNothingAcrossKeepsAPlausibleVelocity
     EXPECT_TRUE(r->velocity.valid) << "frame " << k;
     EXPECT_LT((r->velocity.velocity_mps - truth).norm(), 12.0) << "frame " << k;  // the tangential 10 m/s unknown
   }
+}
+
+// The largest and the smallest horizontal variance actor 1's reported covariance had from frame
+// `from` to frames - 1 (tracked, with `params`), its largest velocity error, and the frames in
+// which its cluster carried no track.
+struct ReportedSpread {
+  double max_variance = 0.0;
+  double min_variance = std::numeric_limits<double>::infinity();
+  double max_error = 0.0;
+  int untracked = 0;
+};
+ReportedSpread reported_spread(const MotionPipelineParams& params,
+                               const std::function<SyntheticBox(double)>& actor_at, int frames,
+                               int from) {
+  MotionPipeline tracked(params);
+  ReportedSpread out;
+  for (int k = 0; k < frames; ++k) {
+    const Frame f = render_at(k, actor_at);
+    const MotionEstimate e = tracked.process(f.scan, static_cast<std::uint64_t>(k));
+    if (k < from) continue;
+    const ClusterEstimate* c = actor_cluster(f, e, 1);
+    if (c == nullptr || c->track_id <= 0) {
+      ++out.untracked;
+      continue;
+    }
+    const Eigen::Matrix3d& cov = c->velocity.covariance;
+    out.max_variance = std::max({out.max_variance, cov(0, 0), cov(1, 1)});
+    out.min_variance = std::min({out.min_variance, cov(0, 0), cov(1, 1)});
+    out.max_error =
+        std::max(out.max_error, (c->velocity.velocity_mps - actor_at(k * kDt).velocity_mps).norm());
+  }
+  return out;
+}
+
+TEST(ObjectTracker, AnOutlineLargerThanAWalkerAtAWalkersPaceReportsTheSpreadOfAGroup) {
+  // An outline 1.6 m deep and 1.8 m wide (a group of walkers: the crowd scenario's walkers
+  // crossing together make one such cluster whichever way each walks) walking away across the
+  // view at (1.0, 0.9) m/s from 16 m ahead. Its track's velocity is the outline's; a walker in
+  // it may walk at another, and the covariance reports that spread on both horizontal axes:
+  // group_sigma_mps squared more than the filter's own, with the same velocity.
+  const auto group = [](double t) {
+    return moving_box({16.0 + 1.0 * t, -3.0 + 0.9 * t, 0.9}, {0.8, 0.9, 0.9}, {1.0, 0.9, 0.0});
+  };
+  const MotionPipelineParams params = MotionPipelineParams::preset("tracked");
+  const double s2 = params.tracking.small.group_sigma_mps * params.tracking.small.group_sigma_mps;
+  ASSERT_GT(s2, 0.0);
+  const ReportedSpread with = reported_spread(params, group, 30, 5);
+  MotionPipelineParams none = params;
+  none.tracking.small.group_sigma_mps = 0.0;
+  const ReportedSpread without = reported_spread(none, group, 30, 5);
+  EXPECT_EQ(with.untracked, 0);
+  EXPECT_EQ(without.untracked, 0);
+  EXPECT_NEAR(with.min_variance - without.min_variance, s2, 1e-9);
+  EXPECT_NEAR(with.max_variance - without.max_variance, s2, 1e-9);
+  EXPECT_EQ(with.max_error, without.max_error);
+  EXPECT_LT(with.max_error, 0.5);
+}
+
+TEST(ObjectTracker, ACarSlowingToAWalkersPaceIsNoGroup) {
+  // A car (4.5 x 1.8 m) driving away 12 m ahead at 8 m/s brakes at 4 m/s^2 from t = 1 s to a
+  // crawl at 1.5 m/s (t = 2.625 s). It was at a vehicle's pace for more than vehicle_pace_updates
+  // updates: at 1.5 m/s it is still a car, not a group of walkers, and its covariance is its own.
+  const auto car = [](double t) {
+    const double t1 = 1.0;
+    const double t2 = t1 + (8.0 - 1.5) / 4.0;
+    double x = 12.0;
+    double v = 8.0;
+    if (t <= t1) {
+      x += 8.0 * t;
+    } else if (t <= t2) {
+      x += 8.0 * t1 + 8.0 * (t - t1) - 2.0 * (t - t1) * (t - t1);
+      v = 8.0 - 4.0 * (t - t1);
+    } else {
+      x += 8.0 * t1 + 8.0 * (t2 - t1) - 2.0 * (t2 - t1) * (t2 - t1) + 1.5 * (t - t2);
+      v = 1.5;
+    }
+    return moving_box({x, 0.0, 0.75}, {2.25, 0.9, 0.75}, {v, 0.0, 0.0});
+  };
+  const MotionPipelineParams params = MotionPipelineParams::preset("tracked");
+  const double s2 = params.tracking.small.group_sigma_mps * params.tracking.small.group_sigma_mps;
+  // From frame 30 (t = 3 s) on it crawls at 1.5 m/s.
+  const ReportedSpread car_spread = reported_spread(params, car, 45, 30);
+  EXPECT_EQ(car_spread.untracked, 0);
+  EXPECT_LT(car_spread.max_variance, s2);
+  EXPECT_LT(car_spread.max_error, 0.5);
+  // Control: had it never been fast for long enough, the crawl would take it for a group, its
+  // velocity the same, its variances group_sigma_mps squared larger.
+  MotionPipelineParams never = params;
+  never.tracking.small.vehicle_pace_updates = 1000;
+  const ReportedSpread as_group = reported_spread(never, car, 45, 30);
+  EXPECT_EQ(as_group.untracked, 0);
+  EXPECT_NEAR(as_group.min_variance - car_spread.min_variance, s2, 1e-9);
+  EXPECT_EQ(as_group.max_error, car_spread.max_error);
 }
 
 }  // namespace

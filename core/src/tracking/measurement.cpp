@@ -176,6 +176,10 @@ void update_track_state(Track& tr, const Group& g, const TrackerParams& p) {
     tr.small_hits = extent < p.small.small_object_m ? tr.small_hits + 1 : 0;
     note_extent(tr, p, false);
   }
+  if (!g.empty()) {
+    tr.fast_updates = tr.velocity().norm() > p.small.walker_max_speed_mps ? tr.fast_updates + 1 : 0;
+    tr.vehicle_pace = tr.vehicle_pace || tr.fast_updates >= p.small.vehicle_pace_updates;
+  }
   const bool slow = tr.velocity().norm() < p.small.walker_max_speed_mps;
   tr.walker = slow && (tr.walker || (p.small.walker_hits > 0 && tr.small_hits >= p.small.walker_hits));
   tr.slow_frames = tr.velocity().norm() < p.lifecycle.carry_min_speed_mps ? tr.slow_frames + 1 : 0;

@@ -74,8 +74,12 @@ void report_track(const Frame& frame, const Track& tr, const Group& g, const Mot
     ce.yaw_rate_rps = taken;
   }
   // The filter's share is scaled as its updates say; the yaw rate left in is not the filter's
-  // uncertainty but the report's own choice, and stays as it is.
+  // uncertainty but the report's own choice, and stays as it is; so does a group's spread.
   cov = c * cov + left_in;
+  // A group of walkers (Track::may_be_group): each walker's velocity differs from the group's by
+  // up to a walker's pace, which no update of the track measures.
+  if (tr.may_be_group(p))
+    cov += p.small.group_sigma_mps * p.small.group_sigma_mps * Eigen::Matrix2d::Identity();
   v.velocity_mps = Eigen::Vector3d::Zero();
   v.velocity_mps.head<2>() = Rt * vel;
   v.covariance = Eigen::Matrix3d::Zero();

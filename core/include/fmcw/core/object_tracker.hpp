@@ -62,6 +62,15 @@ struct TrackerParams {
     /// small_object_m also held a walker following 0.6-0.8 m behind, whose pixels then moved the
     /// median centre back and forth between the two [m].
     double walker_box_m = 0.9;
+    /// A box at a walker's pace larger than small_object_m may be several walkers side by side:
+    /// walkers crossing the line of sight together make one cluster whichever way each one
+    /// walks (their Doppler is near zero alike), and the track's velocity is then the group's.
+    /// Each walker's differs from it by up to a walker's pace, so such a track reports its
+    /// covariance with group_sigma_mps squared added on both horizontal axes (0: never). A
+    /// track that has been faster than walker_max_speed_mps for vehicle_pace_updates
+    /// consecutive updates is a vehicle's and never a group (a car slowing for a light).
+    double group_sigma_mps = 1.0;  ///< [m/s]
+    int vehicle_pace_updates = 5;
     /// A small patch whose single scan resolved its whole velocity (the larger standard
     /// deviation of the fit's two horizontal axes at most this), as one rigid motion (residual
     /// RMS at most measurement.doppler_sigma_mps: no swinging limbs), faster than
@@ -414,6 +423,10 @@ struct Track {
   /// The larger side of the outline the last update measured (its box, where it was not measured).
   double seen_extent_m = 0.0;
   bool walker = false;       ///< see TrackerParams::walker_hits
+  /// Consecutive updates faster than TrackerParams::Small::walker_max_speed_mps, and whether
+  /// they have reached vehicle_pace_updates (it stays so).
+  int fast_updates = 0;
+  bool vehicle_pace = false;
   /// The widest its outline has shown across the line of sight (small tracks at a walker's pace,
   /// TrackerParams::Small::centre_from_silhouette) [m].
   double across_extent_m = 0.0;
@@ -435,6 +448,11 @@ struct Track {
   /// A walker, or a box under small_object_m on both axes: see TrackerParams::small_object_m.
   bool small(const TrackerParams& p) const {
     return walker || std::max(length_m, width_m) < p.small.small_object_m;
+  }
+  /// Larger than a walker at a walker's pace, never at a vehicle's: maybe a group of walkers
+  /// (TrackerParams::Small::group_sigma_mps).
+  bool may_be_group(const TrackerParams& p) const {
+    return !small(p) && !vehicle_pace && velocity().norm() <= p.small.walker_max_speed_mps;
   }
   /// Its next motion is not what its past updates say: a small object (a walker's gait), one at
   /// a walker's pace (walkers side by side make one box) or a turning one (|yaw rate| above
