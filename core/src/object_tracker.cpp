@@ -49,55 +49,71 @@ double Track::covariance_scale(const TrackerParams& p) const {
   return std::clamp((corrections + c.prior_dof) / (expected_corrections + c.prior_dof), c.min_scale, 1.0);
 }
 
-void TrackerParams::validate() const {
+namespace {
+
+// The measurement, small-object, motion, calibration and turning fields of
+// TrackerParams::validate().
+void validate_filter(const TrackerParams& p) {
   const FieldCheck m{"measurement"};
-  m.positive("doppler_sigma_mps", measurement.doppler_sigma_mps);
-  m.at_least("max_effective_rows", measurement.max_effective_rows, 1);
-  m.positive("outlier_sigmas", measurement.outlier_sigmas);
-  m.positive("outlier_floor_mps", measurement.outlier_floor_mps);
-  m.positive("position_sigma_m", measurement.position_sigma_m);
-  m.positive("claim_position_sigma_m", measurement.claim_position_sigma_m);
+  m.positive("doppler_sigma_mps", p.measurement.doppler_sigma_mps);
+  m.at_least("max_effective_rows", p.measurement.max_effective_rows, 1);
+  m.positive("outlier_sigmas", p.measurement.outlier_sigmas);
+  m.positive("outlier_floor_mps", p.measurement.outlier_floor_mps);
+  m.positive("position_sigma_m", p.measurement.position_sigma_m);
+  m.positive("claim_position_sigma_m", p.measurement.claim_position_sigma_m);
   const FieldCheck s{"small"};
-  s.non_negative("small_object_m", small.small_object_m);
-  s.positive("position_sigma_m", small.position_sigma_m);
-  s.positive("doppler_floor_mps", small.doppler_floor_mps);
-  s.positive("initial_tangential_sigma_mps", small.initial_tangential_sigma_mps);
-  s.non_negative("walker_hits (0: no walkers)", small.walker_hits);
-  s.positive("walker_max_speed_mps", small.walker_max_speed_mps);
-  s.positive("walker_box_m", small.walker_box_m);
-  s.non_negative("group_sigma_mps (0: never)", small.group_sigma_mps);
-  s.at_least("vehicle_pace_updates", small.vehicle_pace_updates, 1);
-  s.non_negative("rigid_patch_sigma_mps (0: never)", small.rigid_patch_sigma_mps);
-  s.positive("companion_sigma_mps", small.companion_sigma_mps);
+  s.non_negative("small_object_m", p.small.small_object_m);
+  s.positive("position_sigma_m", p.small.position_sigma_m);
+  s.positive("doppler_floor_mps", p.small.doppler_floor_mps);
+  s.positive("initial_tangential_sigma_mps", p.small.initial_tangential_sigma_mps);
+  s.non_negative("walker_hits (0: no walkers)", p.small.walker_hits);
+  s.positive("walker_max_speed_mps", p.small.walker_max_speed_mps);
+  s.positive("walker_box_m", p.small.walker_box_m);
+  s.non_negative("group_sigma_mps (0: never)", p.small.group_sigma_mps);
+  s.at_least("vehicle_pace_updates", p.small.vehicle_pace_updates, 1);
+  s.non_negative("rigid_patch_sigma_mps (0: never)", p.small.rigid_patch_sigma_mps);
+  s.positive("companion_sigma_mps", p.small.companion_sigma_mps);
   const FieldCheck mo{"motion"};
-  mo.positive("accel_sigma_mps2", motion.accel_sigma_mps2);
-  mo.positive("yaw_accel_sigma_rps2", motion.yaw_accel_sigma_rps2);
-  mo.positive("initial_yaw_rate_sigma_rps", motion.initial_yaw_rate_sigma_rps);
-  mo.positive("max_initial_velocity_sigma_mps", motion.max_initial_velocity_sigma_mps);
-  mo.positive("max_yaw_rate_rps", motion.max_yaw_rate_rps);
-  mo.positive("min_noise_scale", motion.min_noise_scale);
-  FMCW_CHECK_ARG(motion.min_noise_scale <= 1.0, "tracking.motion.min_noise_scale must be <= 1, got ", motion.min_noise_scale);
+  mo.positive("accel_sigma_mps2", p.motion.accel_sigma_mps2);
+  mo.positive("yaw_accel_sigma_rps2", p.motion.yaw_accel_sigma_rps2);
+  mo.positive("initial_yaw_rate_sigma_rps", p.motion.initial_yaw_rate_sigma_rps);
+  mo.positive("max_initial_velocity_sigma_mps", p.motion.max_initial_velocity_sigma_mps);
+  mo.positive("max_yaw_rate_rps", p.motion.max_yaw_rate_rps);
+  mo.positive("min_noise_scale", p.motion.min_noise_scale);
+  FMCW_CHECK_ARG(p.motion.min_noise_scale <= 1.0,
+                 "tracking.motion.min_noise_scale must be <= 1, got ", p.motion.min_noise_scale);
   const FieldCheck ca{"calibration"};
-  ca.non_negative("memory", calibration.memory);
-  FMCW_CHECK_ARG(calibration.memory < 1.0, "tracking.calibration.memory must be < 1, got ", calibration.memory);
-  ca.positive("prior_dof", calibration.prior_dof);
-  FMCW_CHECK_ARG(std::isfinite(calibration.prior_dof), "tracking.calibration.prior_dof must be finite, got ", calibration.prior_dof);
-  ca.positive("min_scale", calibration.min_scale);
-  FMCW_CHECK_ARG(calibration.min_scale <= 1.0, "tracking.calibration.min_scale must be <= 1, got ", calibration.min_scale);
-  mo.non_negative("noise_gain_up", motion.noise_gain_up);
-  mo.non_negative("noise_gain_down", motion.noise_gain_down);
-  FMCW_CHECK_ARG(motion.noise_gain_down < 1.0, "tracking.motion.noise_gain_down must be < 1, got ", motion.noise_gain_down);
+  ca.non_negative("memory", p.calibration.memory);
+  FMCW_CHECK_ARG(p.calibration.memory < 1.0, "tracking.calibration.memory must be < 1, got ",
+                 p.calibration.memory);
+  ca.positive("prior_dof", p.calibration.prior_dof);
+  FMCW_CHECK_ARG(std::isfinite(p.calibration.prior_dof),
+                 "tracking.calibration.prior_dof must be finite, got ", p.calibration.prior_dof);
+  ca.positive("min_scale", p.calibration.min_scale);
+  FMCW_CHECK_ARG(p.calibration.min_scale <= 1.0,
+                 "tracking.calibration.min_scale must be <= 1, got ", p.calibration.min_scale);
+  mo.non_negative("noise_gain_up", p.motion.noise_gain_up);
+  mo.non_negative("noise_gain_down", p.motion.noise_gain_down);
+  FMCW_CHECK_ARG(p.motion.noise_gain_down < 1.0,
+                 "tracking.motion.noise_gain_down must be < 1, got ", p.motion.noise_gain_down);
   const FieldCheck tu{"turning"};
-  tu.non_negative("min_turn_rate_rps", turning.min_turn_rate_rps);
-  tu.non_negative("turn_release_significance", turning.turn_release_significance);
-  tu.at_least("turn_significance (not below turn_release_significance)", turning.turn_significance,
-              turning.turn_release_significance);
-  tu.at_least("min_turn_hits", turning.min_turn_hits, 1);
-  tu.non_negative("axis_shrink_sigmas", turning.axis_shrink_sigmas);
-  tu.non_negative("settle_updates", turning.settle_updates);
-  tu.non_negative("settle_growth_m", turning.settle_growth_m);
-  tu.non_negative("release_hold_updates", turning.release_hold_updates);
-  tu.non_negative("hold_rate_fraction (0: never)", turning.hold_rate_fraction);
+  tu.non_negative("min_turn_rate_rps", p.turning.min_turn_rate_rps);
+  tu.non_negative("turn_release_significance", p.turning.turn_release_significance);
+  tu.at_least("turn_significance (not below turn_release_significance)",
+              p.turning.turn_significance, p.turning.turn_release_significance);
+  tu.at_least("min_turn_hits", p.turning.min_turn_hits, 1);
+  tu.non_negative("axis_shrink_sigmas", p.turning.axis_shrink_sigmas);
+  tu.non_negative("settle_updates", p.turning.settle_updates);
+  tu.non_negative("settle_growth_m", p.turning.settle_growth_m);
+  tu.non_negative("release_hold_updates", p.turning.release_hold_updates);
+  tu.non_negative("hold_rate_fraction (0: never)", p.turning.hold_rate_fraction);
+  tu.non_negative("max_left_in_mps (0: never)", p.turning.max_left_in_mps);
+}
+
+}  // namespace
+
+void TrackerParams::validate() const {
+  validate_filter(*this);
   const FieldCheck h{"heading"};
   h.positive("min_length_m", heading.min_length_m);
   h.at_least("min_aspect", heading.min_aspect, 1.0);

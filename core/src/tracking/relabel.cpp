@@ -1,11 +1,12 @@
 #include "relabel.hpp"
 
+#include <cmath>
 #include <limits>
 
 #include "../label_renumbering.hpp"
 #include "../pixel_lists.hpp"
-#include "measurement.hpp"
 #include "fmcw/core/velocity_lsq.hpp"
+#include "measurement.hpp"
 
 namespace fmcw::core::tracking {
 
@@ -66,7 +67,13 @@ void report_track(const Frame& frame, const Track& tr, const Group& g, const Mot
     const double w = tr.x(4);
     const double k = p.turning.axis_shrink_sigmas;
     const double w2 = w * w + k * k * tr.P(4, 4);
-    const bool known = tr.axis_seen || settled(tr, p) || turn_held(tr, p);
+    // Or a yaw rate too large to leave in (TrackerParams::Turning::max_left_in_mps): resolved
+    // enough, and a velocity off by metres per second if it were left in.
+    const double max_left_in = p.turning.max_left_in_mps;
+    const bool too_large =
+        max_left_in > 0.0 && std::abs(w) * s.norm() > max_left_in &&
+        std::abs(w) > p.turning.turn_significance * std::sqrt(std::max(0.0, tr.P(4, 4)));
+    const bool known = tr.axis_seen || settled(tr, p) || turn_held(tr, p) || too_large;
     const double taken = known && w2 > 0.0 ? w * w * w / w2 : 0.0;
     vel -= taken * s;
     cov = J * tr.P.block<3, 3>(2, 2) * J.transpose() + tr.P(4, 4) * s * s.transpose();

@@ -233,6 +233,12 @@ struct TrackerParams {
     /// falls, lagging the body's). It reports its yaw rate shrunk by its significance, as a
     /// settled track does, not 0. 0: never.
     double hold_rate_fraction = 0.8;
+    /// A yaw rate too large to leave in: where the yaw rate of a track that is not small, left
+    /// in, would move the velocity reported by more than max_left_in_mps (|omega| |o - c|) and
+    /// stands turn_significance standard deviations from zero, it is taken off shrunk by its
+    /// significance, as a settled track's is, at any age (a young car turning out of a side
+    /// street, or a far track whose few columns the Doppler reads across a wide lever). 0: never.
+    double max_left_in_mps = 3.0;  ///< [m/s]
   } turning;
 
   /// Association of clusters to tracks.
