@@ -215,7 +215,7 @@ bool turn_held(const Track& tr, const TrackerParams& p) {
 void update_turning(Track& tr, const TrackerParams& p) {
   const TrackerParams::Turning& pt = p.turning;
   const double w = std::abs(tr.yaw_rate());
-  const double w_sigma = std::sqrt(std::max(0.0, tr.P(4, 4)));
+  const double w_sigma = tr.yaw_rate_sigma();
   const auto track_since = [&tr] {
     if (tr.turning) {
       tr.updates_since_turn = 0;

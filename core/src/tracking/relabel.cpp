@@ -5,8 +5,8 @@
 
 #include "../label_renumbering.hpp"
 #include "../pixel_lists.hpp"
-#include "fmcw/core/velocity_lsq.hpp"
 #include "measurement.hpp"
+#include "fmcw/core/velocity_lsq.hpp"
 
 namespace fmcw::core::tracking {
 
@@ -70,9 +70,8 @@ void report_track(const Frame& frame, const Track& tr, const Group& g, const Mot
     // Or a yaw rate too large to leave in (TrackerParams::Turning::max_left_in_mps): resolved
     // enough, and a velocity off by metres per second if it were left in.
     const double max_left_in = p.turning.max_left_in_mps;
-    const bool too_large =
-        max_left_in > 0.0 && std::abs(w) * s.norm() > max_left_in &&
-        std::abs(w) > p.turning.turn_significance * std::sqrt(std::max(0.0, tr.P(4, 4)));
+    const bool too_large = max_left_in > 0.0 && std::abs(w) * s.norm() > max_left_in &&
+                           std::abs(w) > p.turning.turn_significance * tr.yaw_rate_sigma();
     const bool known = tr.axis_seen || settled(tr, p) || turn_held(tr, p) || too_large;
     const double taken = known && w2 > 0.0 ? w * w * w / w2 : 0.0;
     vel -= taken * s;

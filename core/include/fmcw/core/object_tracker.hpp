@@ -451,6 +451,8 @@ struct Track {
   Eigen::Vector2d centre() const { return x.head<2>(); }
   Eigen::Vector2d velocity() const { return x.segment<2>(2); }
   double yaw_rate() const { return x(4); }
+  /// The standard deviation of the yaw rate, from its variance [rad/s].
+  double yaw_rate_sigma() const { return std::sqrt(std::max(0.0, P(4, 4))); }
   /// A walker, or a box under small_object_m on both axes: see TrackerParams::small_object_m.
   bool small(const TrackerParams& p) const {
     return walker || std::max(length_m, width_m) < p.small.small_object_m;
