@@ -104,7 +104,7 @@ bool axis_information(Track& tr, const std::vector<std::uint32_t>& pixels, const
   const bool face = is_face(a, frame.position, tr.velocity().normalized(), ph);
   if (!a.informative && !face) return false;
   // The direction across the body: across the long side, or along the face.
-  const Eigen::Vector2d n = face ? a.axis : Eigen::Vector2d(-a.axis.y(), a.axis.x());
+  const Eigen::Vector2d n = face ? a.side_axis : Eigen::Vector2d(-a.axis.y(), a.axis.x());
   const double heading_var = face ? face_heading_variance(a, tr.outline_cut, ph)
                                   : axis_heading_variance(a, frame.position, tr.outline_cut, ph);
   const double speed = tr.velocity().norm();

@@ -122,6 +122,13 @@ OutlineAxis outline_axis(const std::vector<std::uint32_t>& pixels, const Frame& 
   out.at = pts.ref;
   out.columns = static_cast<int>(pts.near.size());
   out.informative = p.use_outline && out.length_m >= p.min_length_m && out.length_m >= p.min_aspect * out.width_m;
+  // The side the sensor sees alone, on the same rectangle.
+  const Bounds side(pts.near, angle);
+  const double side_along = side.a1 - side.a0, side_across = side.b1 - side.b0;
+  const double s = side_along >= side_across ? angle : angle + 0.5 * M_PI;
+  out.side_axis = Eigen::Vector2d(std::cos(s), std::sin(s));
+  out.side_length_m = std::max(side_along, side_across);
+  out.side_width_m = std::min(side_along, side_across);
   return out;
 }
 
@@ -142,12 +149,14 @@ bool is_face(const OutlineAxis& a, const Eigen::Vector2d& sensor, const Eigen::V
              const TrackerParams::Heading& p) {
   if (!p.use_outline || p.face_min_length_m <= 0.0 || a.informative) return false;
   const Eigen::Vector2d sight = (a.at - sensor).normalized();
-  // Not long enough for a body's length, long enough for its width, a line.
-  const bool line = a.length_m >= p.face_min_length_m && a.length_m < p.min_length_m &&
-                    a.length_m >= p.min_aspect * a.width_m && a.columns >= p.face_min_columns;
+  // The side the sensor sees: not long enough for a body's length, long enough for its width, a
+  // line (a car's roof behind its rear, seen from above it, is no part of the face).
+  const bool line = a.side_length_m >= p.face_min_length_m && a.side_length_m < p.min_length_m &&
+                    a.side_length_m >= p.min_aspect * a.side_width_m &&
+                    a.columns >= p.face_min_columns;
   // Square to the line of sight, and to the track's velocity.
-  return line && std::abs(a.axis.dot(sight)) <= p.face_sight_cosine &&
-         std::abs(a.axis.dot(heading)) <= std::sin(p.face_max_angle_rad);
+  return line && std::abs(a.side_axis.dot(sight)) <= p.face_sight_cosine &&
+         std::abs(a.side_axis.dot(heading)) <= std::sin(p.face_max_angle_rad);
 }
 
 double face_heading_variance(const OutlineAxis& a, bool cut, const TrackerParams::Heading& p) {

@@ -22,6 +22,12 @@ struct OutlineAxis {
   /// has no axis to tell).
   bool informative = false;
   int columns = 0;  ///< columns the outline spans (those with a pixel)
+  /// The side the sensor sees (the nearest pixel of each column) alone, on the same rectangle:
+  /// its long direction and extents. A car seen end-on from above its roof shows the roof
+  /// behind its rear, which makes the whole outline square-ish; its rear alone is a line.
+  Eigen::Vector2d side_axis = Eigen::Vector2d::UnitX();
+  double side_length_m = 0.0;
+  double side_width_m = 0.0;
 };
 
 /// The rectangle of the pixels' ground-plane footprint along whose edges the side the sensor sees
@@ -38,8 +44,8 @@ double axis_heading_variance(const OutlineAxis& a, const Eigen::Vector2d& sensor
                              const TrackerParams::Heading& p);
 
 /// Where no long side shows, a face across the body (TrackerParams::Heading, face_*): whether
-/// the outline's long side is one, the track's velocity direction `heading` (unit) and the
-/// sensor given (tracker world).
+/// the side the sensor sees (OutlineAxis::side_axis) is one, the track's velocity direction
+/// `heading` (unit) and the sensor given (tracker world).
 bool is_face(const OutlineAxis& a, const Eigen::Vector2d& sensor, const Eigen::Vector2d& heading,
              const TrackerParams::Heading& p);
 
