@@ -1189,6 +1189,54 @@ TEST(TrackingAssociation, ARiderInsideACarsBoxMovingOtherwiseKeepsItsTrack) {
   EXPECT_TRUE(rider_merged(12, -3.0, never));
 }
 
+// A truck's track, 10 m long at (20, 0) moving at 5 m/s along x and turning at omega, and, as
+// old (4 updates, both confirmed), the track of a piece of it whose centre lies in its box and
+// whose own filter holds 8 m/s along x. The piece's 10 pixels (1-2 m ahead of the truck's
+// centre, 0.3 m aside) have the Doppler of the truck's rigid motion plus extra_mps. Returns
+// whether the piece's track was merged into the truck's.
+bool piece_of_turning_truck_merged(double omega, double extra_mps, const TrackerParams& p = {}) {
+  HandScan h;
+  std::vector<Track> tracks{track_at_20(10.0, 2.5), track_at_20(1.8, 0.6)};
+  tracks[0].x(4) = omega;
+  tracks[0].last_pixels = 1000;
+  tracks[1].x << 21.5, 0.3, 8.0, 0.0, 0.0;
+  tracks[1].last_pixels = 800;
+  for (Track& t : tracks) {
+    t.hits = 4;
+    t.confirmed = true;
+  }
+  std::vector<Group> groups(2);
+  groups[0].clusters = {1};
+  groups[1].clusters = {2};
+  for (int n = 0; n < 10; ++n) {
+    const Eigen::Vector3d q(21.0 + 0.1 * n, 0.3, 0.5);
+    const Eigen::Vector2d d = q.head<2>() - tracks[0].centre();
+    const Eigen::Vector2d v = tracks[0].velocity() + omega * Eigen::Vector2d(-d.y(), d.x());
+    h.set(0, 5 + n, q, q.normalized().head<2>().dot(v) + extra_mps);
+    groups[1].found.push_back(static_cast<std::uint32_t>(h.scan.index(0, 5 + n)));
+  }
+  const ScanBeams beams(h.scan);
+  const std::vector<Box> boxes{box_of(tracks[0]), box_of(tracks[1])};
+  Association a;
+  a.owner = {0, 1};
+  a.absorbed = {-1, -1};
+  merge_nested_tracks(standing_frame(h.scan, beams), tracks, boxes, p, a, groups);
+  return tracks[1].merged;
+}
+
+TEST(TrackingAssociation,
+     APieceOfATurningTruckAsOldAsItEndsWhereTheTrucksMotionExplainsItsDoppler) {
+  // Turning at 0.4 rad/s: the piece's own filter holds 3 m/s more than the truck's centre (no
+  // twin by velocity: same_motion_mps 0.5), but its pixels' Doppler is the truck's rigid motion
+  // (its velocity there 5.0 m/s along x and 0.4-0.8 across): a part of it, ended. 1 m/s off
+  // that Doppler it is another body; with twin_by_doppler off (the control) it is left alone.
+  EXPECT_TRUE(piece_of_turning_truck_merged(0.4, 0.0));
+  EXPECT_FALSE(piece_of_turning_truck_merged(0.4, 1.0));
+  TrackerParams by_velocity;
+  by_velocity.fragments.twin_by_doppler = false;
+  EXPECT_FALSE(piece_of_turning_truck_merged(0.4, 0.0, by_velocity));
+}
+
 // ---- Track birth -----------------------------------------------------------------------------
 
 // A track born, the rig standing, on the pixels g of h whose single-scan fit gave velocity v

@@ -324,6 +324,14 @@ bool moves_with(const Track& host, const Track& other, const TrackerParams& p) {
          (host.velocity() - other.velocity()).norm() <= p.fragments.same_motion_mps;
 }
 
+// TrackerParams::Fragments::twin_by_doppler: the host moves faster than a walker and its motion
+// explains the Doppler of the group's pixels.
+bool doppler_twin(const Frame& frame, const Group& g, const Track& host, const TrackerParams& p) {
+  return p.fragments.twin_by_doppler && host.velocity().norm() > p.small.walker_max_speed_mps &&
+         !g.found.empty() &&
+         doppler_deviation(frame, g.found, host) <= p.association.doppler_tolerance_mps;
+}
+
 // How far beyond its predicted box a cluster may lie to join the track: the gate, wider by 3σ of
 // the track's position (a young track's tangential velocity is hardly known).
 double gate_of(const Track& t, const TrackerParams& p) {
@@ -438,8 +446,12 @@ void merge_nested_tracks(const Frame& frame, std::vector<Track>& tracks, const s
     // the one that now finds a few times fewer pixels than the other follows a part.
     const bool much_larger = host.hits >= tracks[t].hits && host.last_pixels >= ratio * tracks[t].last_pixels;
     if (small_host && !(host.confirmed && much_larger)) continue;
-    // As old and moving with it: a part of the vehicle too (a car first seen in two halves).
-    const bool twin = !small_host && host.hits == tracks[t].hits && moves_with(host, tracks[t], p);
+    // As old and moving with it: a part of the vehicle too (a car first seen in two halves). Or
+    // as old, its pixels' Doppler the host's motion (a turning truck first seen in two pieces:
+    // the second piece's young filter holds a velocity of its own, the rigid body's Doppler does
+    // not).
+    const bool twin = !small_host && host.hits == tracks[t].hits &&
+                      (moves_with(host, tracks[t], p) || doppler_twin(frame, groups[t], host, p));
     if (host.hits <= tracks[t].hits && !much_larger && !twin) continue;
     if (tracks[t].vehicle(p) && tracks[t].confirmed && !much_larger) continue;  // two vehicles: leave to the split
     // An established track whose pixels the vehicle's motion does not explain moves on its own

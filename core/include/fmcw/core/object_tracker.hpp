@@ -308,6 +308,13 @@ struct TrackerParams {
     /// shows its side and its front corner. 0: only the box [m, m/s].
     double same_motion_margin_m = 0.5;
     double same_motion_mps = 0.5;
+    /// A track as old as the vehicle whose box holds its centre (as above), whose pixels' Doppler
+    /// the vehicle's motion explains (within association.doppler_tolerance_mps, the median over
+    /// its pixels), is a part of it even where its own velocity differs by more than
+    /// same_motion_mps: a turning truck first seen in two pieces, the second piece's young filter
+    /// holding a velocity of its own while one rigid body's Doppler is one field. false: only by
+    /// velocity.
+    bool twin_by_doppler = true;
     /// A confirmed track of at least own_motion_hits updates, inside a vehicle's box (as above),
     /// whose pixels' Doppler the vehicle's motion does not explain (beyond
     /// association.doppler_tolerance_mps), moves on its own (a cyclist riding beside a turning
