@@ -170,8 +170,9 @@ struct TrackerParams {
   ///
   /// A face across the body (a vehicle seen end-on shows its rear or its front, a line as long
   /// as the body is wide) gives the axis as its normal: measured where no long side shows, the
-  /// outline's long side is at least face_min_length_m (wider than a walker or a rider) and
-  /// min_aspect times its short one, seen in face_min_columns columns or more, square to the
+  /// side the sensor sees (the nearest pixel of each column: a car's roof behind its rear is no
+  /// part of it) is at least face_min_length_m long (wider than a walker or a rider) and
+  /// min_aspect times its short side, seen in face_min_columns columns or more, square to the
   /// line of sight within face_sight_cosine (|cos| of the angle between the face and the line of
   /// sight: a side seen at a grazing angle is not square to it), and its normal within
   /// face_max_angle_rad of the track's velocity (a face along the body, a rider's or a van's
