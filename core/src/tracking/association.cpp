@@ -24,6 +24,13 @@ std::vector<std::vector<std::uint32_t>> pixels_of_clusters(const MotionEstimate&
 
 namespace {
 
+// The track's motion explains the pixels' Doppler: their doppler_deviation is within
+// association.doppler_tolerance_mps.
+bool explains_doppler(const Frame& frame, const std::vector<std::uint32_t>& px, const Track& track,
+                      const TrackerParams& p) {
+  return doppler_deviation(frame, px, track) <= p.association.doppler_tolerance_mps;
+}
+
 // A cluster's pixels in the world plane, with their extent.
 struct WorldPixels {
   std::vector<Eigen::Vector2d> q;
@@ -220,7 +227,7 @@ void split_by_doppler(const Frame& frame, MotionEstimate& est, std::vector<std::
       const Track& tr = tracks[t];
       if (!tr.confirmed || tr.misses != 0) continue;
       if (!reaches(boxes[t], w, p)) continue;                                       // no pixel in its box
-      if (doppler_deviation(frame, px, tr) <= pa.doppler_tolerance_mps) continue;  // the whole cluster is its
+      if (explains_doppler(frame, px, tr, p)) continue;  // the whole cluster is its
       explained.clear();
       rest.clear();
       for (std::size_t n = 0; n < px.size(); ++n) {
@@ -328,8 +335,7 @@ bool moves_with(const Track& host, const Track& other, const TrackerParams& p) {
 // explains the Doppler of the group's pixels.
 bool doppler_twin(const Frame& frame, const Group& g, const Track& host, const TrackerParams& p) {
   return p.fragments.twin_by_doppler && host.velocity().norm() > p.small.walker_max_speed_mps &&
-         !g.found.empty() &&
-         doppler_deviation(frame, g.found, host) <= p.association.doppler_tolerance_mps;
+         !g.found.empty() && explains_doppler(frame, g.found, host, p);
 }
 
 // How far beyond its predicted box a cluster may lie to join the track: the gate, wider by 3σ of
@@ -366,7 +372,7 @@ void gate_clusters(const Frame& frame, const std::vector<std::vector<std::uint32
       // A large cluster beside a small track (a car passing a walker) is nearer the walker's
       // centre than its own box's: the box distance decides, the centre only breaks ties.
       const double d = boxes[t].distance(centroid[c]) + 1e-3 * (centroid[c] - boxes[t].centre).norm();
-      if (doppler_deviation(frame, cluster_pixels[c], tracks[t]) <= pa.doppler_tolerance_mps) {
+      if (explains_doppler(frame, cluster_pixels[c], tracks[t], p)) {
         if (d < best) {
           best = d;
           a.owner[c] = static_cast<int>(t);
@@ -488,7 +494,7 @@ int lost_track_of(const Frame& frame, const Track& born, const std::vector<std::
   const double widest = 3.0 * p.association.gate_m;
   return nearest_holding_box(
       born.centre(), boxes, [&](std::size_t l) { return std::min(gate_of(lost[l], p), widest); },
-      [&](std::size_t l) { return doppler_deviation(frame, pixels, lost[l]) <= p.association.doppler_tolerance_mps; });
+      [&](std::size_t l) { return explains_doppler(frame, pixels, lost[l], p); });
 }
 
 }  // namespace fmcw::core::tracking
