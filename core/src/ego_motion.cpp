@@ -101,4 +101,24 @@ void uncompensate_ego_velocity(Scan& scan, const EgoMotion& ego) {
   scan.velocity_frame = VelocityFrame::kSensor;
 }
 
+void uncompensate_ego_velocity(Frame& frame, const EgoMotion& ego) {
+  Scan& scan = frame.scan;
+  uncompensate_ego_velocity(scan, ego);
+  if (!frame.truth) return;
+  std::vector<float>& truth_v = frame.truth->radial_velocity_mps;
+  FMCW_CHECK_ARG(truth_v.size() == scan.valid.size(), "uncompensate_ego_velocity: the truth holds ",
+                 truth_v.size(), " radial velocities for ", scan.valid.size(), " pixels");
+  for (const HeadInfo& head : scan.heads) {
+    const Eigen::Vector3d v_origin = ego.point_velocity_mps(head.origin_m());
+    for (int r = 0; r < scan.rows; ++r) {
+      for (int c = head.col_begin; c < head.col_end; ++c) {
+        const std::size_t i = scan.index(r, c);
+        if (!scan.valid[i]) continue;
+        const Eigen::Vector3d e = (scan.position(i) - head.origin_m()).normalized();
+        truth_v[i] = static_cast<float>(truth_v[i] - e.dot(v_origin));
+      }
+    }
+  }
+}
+
 }  // namespace fmcw::core

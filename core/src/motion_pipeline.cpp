@@ -25,6 +25,14 @@ void MotionPipelineParams::validate() const {
   ego_prior.validate();
   instances.validate();
   FMCW_CHECK_ARG(moving_sigma > 0.0, "pipeline: moving_sigma must be > 0, got ", moving_sigma);
+  FMCW_CHECK_ARG(range_noise_band_m >= 0.0, "pipeline: range_noise_band_m must be >= 0, got ",
+                 range_noise_band_m);
+  FMCW_CHECK_ARG(range_noise_bands >= 1, "pipeline: range_noise_bands must be >= 1, got ",
+                 range_noise_bands);
+  FMCW_CHECK_ARG(range_noise_min_pixels >= 1, "pipeline: range_noise_min_pixels must be >= 1, got ",
+                 range_noise_min_pixels);
+  FMCW_CHECK_ARG(range_noise_margin >= 1.0, "pipeline: range_noise_margin must be >= 1, got ",
+                 range_noise_margin);
   FMCW_CHECK_ARG(min_static_fraction >= 0.0 && min_static_fraction <= 1.0, "pipeline: min_static_fraction must be in [0, 1], got ",
                  min_static_fraction);
   FMCW_CHECK_LIMIT(num_threads >= 0 && num_threads <= kMaxThreads, "pipeline: num_threads (--threads) must be in [0, ", kMaxThreads,
@@ -102,7 +110,13 @@ MotionEstimate MotionPipeline::process(const Scan& scan, std::uint64_t frame_ind
 MotionEstimate MotionPipeline::process_in_scan_frame(const Scan& scan, std::uint64_t frame_index) {
   if (params_.approach == MotionApproach::kRobustEgo) {
     MotionEstimate out = process_robust(scan, frame_index);
-    if (params_.track_objects) {
+    if (params_.track_objects && scan.velocity_frame == VelocityFrame::kEgoCompensated) {
+      // The ego motion that carries tracks from one scan to the next is not in such a scan (its
+      // static world reads about 0 whatever the rig does): tracked against a rig taken to
+      // stand, every object would seem to move by the ego's own motion. Objects are estimated
+      // scan by scan instead; undo the compensation with known ego motion to track them.
+      tracker_.reset();
+    } else if (params_.track_objects) {
       const auto t0 = Clock::now();
       tracker_.update(scan, buffers_.get().beams, out);
       const double ms = ms_since(t0);

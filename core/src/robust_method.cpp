@@ -84,6 +84,139 @@ FMCW_VECTOR_CLONES void moving_row(std::size_t cols, const std::uint8_t* valid, 
   }
 }
 
+// The range band of a pixel (MotionPipelineParams::range_noise_band_m > 0).
+std::size_t range_band(float range_m, const MotionPipelineParams& params) {
+  const auto bands = static_cast<std::size_t>(params.range_noise_bands);
+  return std::min(bands - 1, static_cast<std::size_t>(static_cast<double>(range_m) /
+                                                      params.range_noise_band_m));
+}
+
+// The spread of [first, last) (reordered): its median |residual| over a unit normal's, or 0
+// where that is within range_noise_margin times the nominal sigma.
+double noise_spread(float* first, float* last, const MotionPipelineParams& params) {
+  constexpr double kNormalMedian = 0.6744897501960817;  // P(|x| < q) = 1/2, unit normal
+  float* q = first + (last - first) / 2;
+  std::nth_element(first, q, last);
+  const double s = static_cast<double>(*q) / kNormalMedian;
+  return s > params.range_noise_margin * params.ego.noise_sigma_mps ? s : 0.0;
+}
+
+// Whether any range band shows more noise than the nominal, in every fourth row (in bands of
+// range_noise_min_pixels there or more): the root mean square of the residuals within the
+// nominal threshold (`moving` 0). Not robust, but cheap: where what moves inflates it, the
+// robust spreads of cell_sigmas decide; a sensor whose noise is the nominal one everywhere costs
+// no more than this pass.
+bool any_band_noisier(const Scan& scan, const ScanBeams& beams,
+                      const std::vector<Eigen::Vector3d>& head_velocity,
+                      const std::vector<std::uint8_t>& moving, const MotionPipelineParams& params) {
+  const auto bands = static_cast<std::size_t>(params.range_noise_bands);
+  const auto cols = static_cast<std::size_t>(scan.cols);
+  std::vector<double> sum_sq(bands, 0.0);
+  std::vector<std::size_t> count(bands, 0);
+  for (std::size_t r = 0; r < static_cast<std::size_t>(scan.rows); r += 4) {
+    for (std::size_t c = 0; c < cols; ++c) {
+      const std::size_t i = r * cols + c;
+      if (!scan.valid[i] || moving[i] != 0) continue;
+      const Eigen::Vector3d& h = head_velocity[c];
+      const double res = static_cast<double>(scan.radial_velocity_mps[i]) + beams.ex[i] * h.x() +
+                         beams.ey[i] * h.y() + beams.ez[i] * h.z();
+      const std::size_t b = range_band(scan.range_m[i], params);
+      sum_sq[b] += res * res;
+      ++count[b];
+    }
+  }
+  const double limit = params.range_noise_margin * params.ego.noise_sigma_mps;
+  for (std::size_t b = 0; b < bands; ++b) {
+    if (count[b] >= static_cast<std::size_t>(params.range_noise_min_pixels) &&
+        sum_sq[b] > limit * limit * static_cast<double>(count[b]))
+      return true;
+  }
+  return false;
+}
+
+// The sensor's sigma where the static world shows more noise than the nominal
+// (MotionPipelineParams::range_noise_band_m), per cell of one image row and one range band (a
+// row sees a surface at about one incidence there: the ground at a grazing angle, a wall), or,
+// in a cell of too few pixels, of the band's pixels in every row: the spread of the residuals of
+// the pixels within the threshold (the nominal one, then the cell's), so that what moves does
+// not count. Every other column is counted (half the pixels measure a spread as well).
+// Indexed by row * range_noise_bands + band; 0 where a cell shows no more than the nominal;
+// empty where none does (and where no band does in any_band_noisier).
+std::vector<double> cell_sigmas(const Scan& scan, const ScanBeams& beams,
+                                const std::vector<Eigen::Vector3d>& head_velocity,
+                                const Eigen::Matrix3d& cov, const std::vector<std::uint8_t>& moving,
+                                const MotionPipelineParams& params) {
+  if (!(params.range_noise_band_m > 0.0) ||
+      !any_band_noisier(scan, beams, head_velocity, moving, params))
+    return {};
+  const auto bands = static_cast<std::size_t>(params.range_noise_bands);
+  const auto cols = static_cast<std::size_t>(scan.cols);
+  const auto rows = static_cast<std::size_t>(scan.rows);
+  const auto min_pixels = static_cast<std::size_t>(params.range_noise_min_pixels);
+  const double nominal = params.ego.noise_sigma_mps;
+  const double ms2 = params.moving_sigma * params.moving_sigma;
+  // Each counted pixel: |residual|, the twist's variance along its beam, and its cell.
+  std::vector<float> spread, twist_var;
+  std::vector<std::uint32_t> cell_of;
+  spread.reserve(scan.size() / 2 + 1);
+  twist_var.reserve(scan.size() / 2 + 1);
+  cell_of.reserve(scan.size() / 2 + 1);
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t c = 0; c < cols; c += 2) {
+      const std::size_t i = r * cols + c;
+      if (!scan.valid[i]) continue;
+      const Eigen::Vector3d e = beams.e(i);
+      spread.push_back(static_cast<float>(
+          std::abs(static_cast<double>(scan.radial_velocity_mps[i]) + e.dot(head_velocity[c]))));
+      twist_var.push_back(static_cast<float>(e.dot(cov * e)));
+      cell_of.push_back(
+          static_cast<std::uint32_t>(r * bands + range_band(scan.range_m[i], params)));
+    }
+  }
+  const std::size_t cells = rows * bands;
+  std::vector<double> sigma(cells, 0.0);
+  std::vector<std::size_t> start(cells + 1);
+  std::vector<float> within(spread.size()), band;
+  bool any = false;
+  for (int pass = 0; pass < 2; ++pass) {
+    // The pixels within the threshold, grouped by cell (a counting sort).
+    const auto inside = [&](std::size_t n) {
+      const double s = std::max(nominal, sigma[cell_of[n]]);
+      const double r = spread[n];
+      return r * r <= ms2 * (s * s + twist_var[n]);
+    };
+    std::fill(start.begin(), start.end(), 0);
+    for (std::size_t n = 0; n < spread.size(); ++n) start[cell_of[n] + 1] += inside(n) ? 1 : 0;
+    for (std::size_t k = 0; k < cells; ++k) start[k + 1] += start[k];
+    std::vector<std::size_t> next(start.begin(), start.end() - 1);
+    for (std::size_t n = 0; n < spread.size(); ++n) {
+      if (inside(n)) within[next[cell_of[n]]++] = spread[n];
+    }
+    any = false;
+    for (std::size_t b = 0; b < bands; ++b) {
+      band.clear();
+      for (std::size_t r = 0; r < rows; ++r) {
+        band.insert(band.end(), within.begin() + static_cast<std::ptrdiff_t>(start[r * bands + b]),
+                    within.begin() + static_cast<std::ptrdiff_t>(start[r * bands + b + 1]));
+      }
+      const double whole = band.size() >= min_pixels
+                               ? noise_spread(band.data(), band.data() + band.size(), params)
+                               : 0.0;
+      for (std::size_t r = 0; r < rows; ++r) {
+        const std::size_t k = r * bands + b;
+        const bool own = start[k + 1] - start[k] >= min_pixels;
+        sigma[k] =
+            own ? noise_spread(within.data() + start[k], within.data() + start[k + 1], params)
+                : whole;
+        any = any || sigma[k] > 0.0;
+      }
+    }
+    if (!any) break;
+  }
+  if (!any) sigma.clear();
+  return sigma;
+}
+
 std::vector<std::uint8_t> moving_mask(const Scan& scan, const ScanBeams& beams, const std::vector<Eigen::Vector3d>& head_velocity,
                                       const EgoTwistEstimate& twist, const MotionPipelineParams& params) {
   std::vector<std::uint8_t> moving(scan.size(), 0);
@@ -104,6 +237,20 @@ std::vector<std::uint8_t> moving_mask(const Scan& scan, const ScanBeams& beams, 
     moving_row(cols, scan.valid.data() + first, scan.radial_velocity_mps.data() + first, beams.ex.data() + first,
                beams.ey.data() + first, beams.ez.data() + first, hx.data(), hy.data(), hz.data(), c, sigma2, ms2,
                moving.data() + first);
+  }
+  // Where a cell's noise exceeds the nominal, its moving pixels are tested against it instead.
+  const std::vector<double> cell_sigma =
+      cell_sigmas(scan, beams, head_velocity, cov, moving, params);
+  if (cell_sigma.empty()) return moving;
+  const auto bands = static_cast<std::size_t>(params.range_noise_bands);
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (moving[i] == 0) continue;
+    const double s = cell_sigma[(i / cols) * bands + range_band(scan.range_m[i], params)];
+    if (s == 0.0) continue;
+    const Eigen::Vector3d e = beams.e(i);
+    const double residual =
+        static_cast<double>(scan.radial_velocity_mps[i]) + e.dot(head_velocity[i % cols]);
+    moving[i] = residual * residual > ms2 * (s * s + e.dot(cov * e)) ? 1 : 0;
   }
   return moving;
 }

@@ -1,11 +1,11 @@
-#include "fmcw/eval/frame_source.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <stdexcept>
 
+#include "fmcw/core/ego_motion.hpp"
 #include "fmcw/core/errors.hpp"
+#include "fmcw/eval/frame_source.hpp"
 #include "fmcw/io/dataset_header.hpp"
 #include "fmcw/io/pcd.hpp"
 #include "fmcw/io/truth_tables.hpp"
@@ -101,6 +101,13 @@ core::Frame DatasetSource::frame(std::size_t k) {
                           std::to_string(t.stamp_s) + " s for frame " + std::to_string(k) + ")");
   }
   f.frame_truth = t;
+  // Ego-compensated frames are evaluated as a real dataset's are with its poses (as
+  // AevaScenesSource does): back in the sensor frame with the ego motion of the dataset's own
+  // truth, so that the ego velocity is measured and tracks are carried with the rig.
+  if (f.scan.velocity_frame == core::VelocityFrame::kEgoCompensated) {
+    core::uncompensate_ego_velocity(
+        f, core::EgoMotion{t.ego.velocity_mps, t.ego.angular_velocity_rps});
+  }
   return f;
 }
 

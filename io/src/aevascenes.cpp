@@ -366,19 +366,7 @@ core::Frame read_aevascenes_frame(const AevaScenesSequence& seq, std::size_t k, 
   if (grid.to_sensor_frame) {
     FMCW_CHECK_FILE(seq.poses.size() >= 2, seq.dir, ": one frame: no ego motion to undo the compensation with");
     const core::EgoMotion ego{out.frame_truth->ego.velocity_mps, out.frame_truth->ego.angular_velocity_rps};
-    core::uncompensate_ego_velocity(scan, ego);
-    // The truth's radial velocity too: e . (V_point - V_origin).
-    for (const core::HeadInfo& head : scan.heads) {
-      const Eigen::Vector3d v_origin = ego.point_velocity_mps(head.origin_m());
-      for (int r = 0; r < scan.rows; ++r) {
-        for (int c = head.col_begin; c < head.col_end; ++c) {
-          const std::size_t i = scan.index(r, c);
-          if (!scan.valid[i]) continue;
-          const Eigen::Vector3d e = (scan.position(i) - head.origin_m()).normalized();
-          out.truth->radial_velocity_mps[i] = static_cast<float>(out.truth->radial_velocity_mps[i] - e.dot(v_origin));
-        }
-      }
-    }
+    core::uncompensate_ego_velocity(out, ego);  // the truth's radial velocity too
   }
   return out;
 }

@@ -204,6 +204,33 @@ double car_error(const core::Frame& f, const core::MotionEstimate& e) {
   return 1e9;
 }
 
+TEST(VelocityFrames, WithoutEgoMotionTrackedEstimatesObjectsScanByScan) {
+  // A compensated scan holds no ego motion to carry tracks with: tracked against a rig taken to
+  // stand, every object would seem to move by the ego's 8 m/s. Without poses, tracked reports
+  // what its preset reports with tracking off, scan by scan (no track ids), to the bit.
+  const TurningScene s(6.0);
+  LidarSimulator sim = s.simulator(core::VelocityFrame::kEgoCompensated);
+  core::MotionPipeline tracked(core::MotionPipelineParams::preset("tracked"));
+  core::MotionPipelineParams untracked_params = core::MotionPipelineParams::preset("tracked");
+  untracked_params.track_objects = false;
+  core::MotionPipeline untracked(untracked_params);
+  for (std::uint64_t k = 0; k < 3; ++k) {
+    const core::Frame c = sim.simulate(k, kStamps[k]);
+    const core::MotionEstimate t = tracked.process(c.scan, k);
+    const core::MotionEstimate u = untracked.process(c.scan, k);
+    ASSERT_TRUE(t.ok() && u.ok()) << t.message << u.message;
+    EXPECT_EQ(t.labels, u.labels) << "frame " << k;
+    ASSERT_EQ(t.clusters.size(), u.clusters.size()) << "frame " << k;
+    ASSERT_FALSE(t.clusters.empty());
+    for (std::size_t j = 0; j < t.clusters.size(); ++j) {
+      EXPECT_EQ(t.clusters[j].track_id, 0) << "frame " << k;
+      EXPECT_EQ(t.clusters[j].velocity.velocity_mps, u.clusters[j].velocity.velocity_mps)
+          << "frame " << k;
+    }
+    EXPECT_LT(car_error(c, t), 0.5) << "frame " << k;
+  }
+}
+
 TEST(VelocityFrames, OnATurningEgoFastIsNearerTheTruthOnCompensatedScans) {
   const TurningScene s(6.0);
   Runs run(s, "fast");

@@ -34,8 +34,8 @@ struct ProcessOptions {
 
 // Brings an ego-compensated scan back to the sensor frame with the poses' motion at its stamp,
 // so that the ego velocity is measured; says once on stderr what was done or left undone.
-void apply_poses(io::InputFrame& in, const std::optional<core::PoseSeries>& poses, const std::string& file,
-                 bool first) {
+void apply_poses(io::InputFrame& in, const std::optional<core::PoseSeries>& poses,
+                 const std::string& file, bool first, bool tracks) {
   core::Scan& scan = in.frame.scan;
   if (scan.velocity_frame == core::VelocityFrame::kSensor) {
     if (poses && first) std::cerr << "--poses ignored: the frames hold raw (sensor-frame) velocities\n";
@@ -43,8 +43,11 @@ void apply_poses(io::InputFrame& in, const std::optional<core::PoseSeries>& pose
   }
   if (!poses) {
     if (first) {
-      std::cerr << "ego-compensated frames without --poses: the ego velocity is not measurable and is reported as "
-                   "nan; objects and labels are estimated directly\n";
+      std::cerr << "ego-compensated frames without --poses: the ego velocity is not measurable and "
+                   "is reported as nan; objects and labels are estimated directly"
+                << (tracks ? ", scan by scan: no tracks without the ego motion that carries them"
+                           : "")
+                << "\n";
     }
     return;
   }
@@ -70,7 +73,7 @@ void process_frames(const ProcessOptions& opt, io::InputSequence& files, core::M
       const std::string note = velocity_frame_note(in, opt.input);
       if (!note.empty()) std::cerr << note << "\n";
     }
-    apply_poses(in, poses, file, k == 0);
+    apply_poses(in, poses, file, k == 0, pipeline.params().track_objects);
     const core::Frame& frame = in.frame;
     // Organized frames bring their own shape and heads; a projected frame's come from the grid
     // options (and, for Aeva scans without --aeva-lines, rows from each scan's line indices).

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <vector>
 
+#include "fmcw/core/ground_truth.hpp"
 #include "fmcw/core/scan.hpp"
 
 namespace fmcw::core {
@@ -51,5 +52,8 @@ void compensate_ego_velocity(Scan& scan, const EgoMotion& ego);
 /// (and the ego velocity) works as on a sensor-frame scan. Throws core::InputError when the scan
 /// is not compensated.
 void uncompensate_ego_velocity(Scan& scan, const EgoMotion& ego);
+/// The same for a frame with its truth: the scan as above, and the truth's radial velocity (in
+/// the scan's frame, as a dataset writes it) to e . (V_point - V_origin) as well.
+void uncompensate_ego_velocity(Frame& frame, const EgoMotion& ego);
 
 }  // namespace fmcw::core

@@ -47,6 +47,22 @@ struct MotionPipelineParams {
   /// kRobustEgo: a point moves when its ego-compensated Doppler |v + e . V_origin| exceeds this
   /// many standard deviations (sensor noise and the ego estimate's uncertainty along e).
   double moving_sigma = 4.0;
+  /// kRobustEgo: the sensor's velocity noise where the static world shows more of it than
+  /// ego.noise_sigma_mps. A coherent lidar's precision falls with its signal (with range, on
+  /// dark surfaces, at grazing incidence), and a fixed sigma then finds moving pixels in the far
+  /// static world, in clusters that become false objects. Per cell of one image row and one band
+  /// of range_noise_band_m metres (the last of range_noise_bands open-ended; a row sees about
+  /// one surface at one incidence there: the ground, a wall), the spread of its residuals within
+  /// the threshold (their median |residual| over a unit normal's, 0.674; every other column
+  /// counted), where it exceeds ego.noise_sigma_mps range_noise_margin times, is the sensor's
+  /// sigma there; a cell of fewer than range_noise_min_pixels counted pixels takes its band's
+  /// over every row. Done only where some band's root mean square residual (every fourth row)
+  /// exceeds the margin: on a scan whose noise is the nominal one nothing changes. 0: the
+  /// nominal sigma everywhere.
+  double range_noise_band_m = 10.0;
+  int range_noise_bands = 10;
+  int range_noise_min_pixels = 100;
+  double range_noise_margin = 1.25;
   InstanceParams instances;         ///< kRobustEgo
   /// Track objects across frames (ObjectTracker): tangential velocity and yaw rate from
   /// several scans, "moving" carried through the Doppler blind band. Frames must then be
