@@ -390,6 +390,7 @@ MotionEstimate MotionPipeline::process_robust(const Scan& scan, std::uint64_t fr
   for (int c = 0; c < scan.cols; ++c) head_velocity[static_cast<std::size_t>(c)] = twist.velocity_at(beams.origin[static_cast<std::size_t>(c)]);
   const std::vector<std::uint8_t> moving = moving_mask(scan, beams, head_velocity, twist, params_);
   Segmentation seg = label_moving_instances(scan, moving, params_.instances);
+  join_instances_across_heads(scan, seg, params_.instances);
   out.labels = std::move(seg.labels);
   out.num_static_pixels = static_cast<int>(seg.static_pixels);
   out.timing.clustering_ms = ms_since(t_cluster);

@@ -28,6 +28,13 @@ struct InstanceParams {
   /// fragment_residual_mps (median).
   int fragment_pixels = 60;
   double fragment_residual_mps = 0.25;
+  /// One body seen by two heads whose views overlap (a narrow head inside a wide one, wide heads
+  /// reaching into each other's view) is two groups of pixels in two column spans of the image,
+  /// never neighbours. Instances of different heads join where they share space: at least
+  /// cross_head_share of the smaller one's cubes of cross_head_voxel_m hold points of both
+  /// (join_instances_across_heads; 0: never).
+  double cross_head_voxel_m = 0.5;
+  double cross_head_share = 0.3;
 
   void validate() const;
 };
@@ -46,5 +53,11 @@ bool is_occlusion_edge(const Scan& scan, const std::vector<int>& group_of, int r
 /// pixels and for groups below min_cluster_pixels, 1..k for instances numbered by their first
 /// pixel in row-major order.
 Segmentation label_moving_instances(const Scan& scan, const std::vector<std::uint8_t>& moving, const InstanceParams& params);
+
+/// Joins instances of seg (labels 1..k, from label_moving_instances) seen by different heads
+/// that share space (InstanceParams::cross_head_share), renumbering them by first pixel in
+/// row-major order as label_moving_instances numbers them; cluster_sizes follow. Returns the
+/// number of joins.
+int join_instances_across_heads(const Scan& scan, Segmentation& seg, const InstanceParams& params);
 
 }  // namespace fmcw::core
