@@ -16,26 +16,36 @@ std::size_t interval_of(const std::vector<double>& stamp, double t) {
   return std::min(k, stamp.size() - 2);
 }
 
-// v_rig += sign * e . V_origin over the valid pixels.
-void shift_by_ego(Scan& scan, const EgoMotion& ego, double sign) {
-  scan.validate_layout();
-  FMCW_CHECK_ARG(ego.velocity_mps.allFinite() && ego.angular_velocity_rps.allFinite(),
-                 "ego motion: velocity and angular velocity must be finite");
+// Calls f(i, origin, v_origin) for every valid pixel i of the scan, with its head's origin and
+// that origin's velocity under the ego motion (rig frame).
+template <class F>
+void for_each_valid_beam(const Scan& scan, const EgoMotion& ego, F&& f) {
   for (const HeadInfo& head : scan.heads) {
     const Eigen::Vector3d o = head.origin_m();
     const Eigen::Vector3d v_origin = ego.point_velocity_mps(o);
     for (int r = 0; r < scan.rows; ++r) {
       for (int c = head.col_begin; c < head.col_end; ++c) {
         const std::size_t i = scan.index(r, c);
-        if (!scan.valid[i]) continue;
-        const Eigen::Vector3d d = scan.position(i) - o;
-        const double norm = d.norm();
-        if (!(norm > 0.0)) continue;  // a point on its origin has no beam direction; validate() refuses it
-        scan.radial_velocity_mps[i] =
-            static_cast<float>(scan.radial_velocity_mps[i] + sign * d.dot(v_origin) / norm);
+        if (scan.valid[i]) f(i, o, v_origin);
       }
     }
   }
+}
+
+// v_rig += sign * e . V_origin over the valid pixels.
+void shift_by_ego(Scan& scan, const EgoMotion& ego, double sign) {
+  scan.validate_layout();
+  FMCW_CHECK_ARG(ego.velocity_mps.allFinite() && ego.angular_velocity_rps.allFinite(),
+                 "ego motion: velocity and angular velocity must be finite");
+  for_each_valid_beam(
+      scan, ego, [&](std::size_t i, const Eigen::Vector3d& o, const Eigen::Vector3d& v_origin) {
+        const Eigen::Vector3d d = scan.position(i) - o;
+        const double norm = d.norm();
+        if (!(norm > 0.0))
+          return;  // a point on its origin has no beam direction; validate() refuses it
+        scan.radial_velocity_mps[i] =
+            static_cast<float>(scan.radial_velocity_mps[i] + sign * d.dot(v_origin) / norm);
+      });
 }
 
 }  // namespace
@@ -108,17 +118,11 @@ void uncompensate_ego_velocity(Frame& frame, const EgoMotion& ego) {
   std::vector<float>& truth_v = frame.truth->radial_velocity_mps;
   FMCW_CHECK_ARG(truth_v.size() == scan.valid.size(), "uncompensate_ego_velocity: the truth holds ",
                  truth_v.size(), " radial velocities for ", scan.valid.size(), " pixels");
-  for (const HeadInfo& head : scan.heads) {
-    const Eigen::Vector3d v_origin = ego.point_velocity_mps(head.origin_m());
-    for (int r = 0; r < scan.rows; ++r) {
-      for (int c = head.col_begin; c < head.col_end; ++c) {
-        const std::size_t i = scan.index(r, c);
-        if (!scan.valid[i]) continue;
-        const Eigen::Vector3d e = (scan.position(i) - head.origin_m()).normalized();
+  for_each_valid_beam(
+      scan, ego, [&](std::size_t i, const Eigen::Vector3d& o, const Eigen::Vector3d& v_origin) {
+        const Eigen::Vector3d e = (scan.position(i) - o).normalized();
         truth_v[i] = static_cast<float>(truth_v[i] - e.dot(v_origin));
-      }
-    }
-  }
+      });
 }
 
 }  // namespace fmcw::core

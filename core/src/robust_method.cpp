@@ -84,6 +84,13 @@ FMCW_VECTOR_CLONES void moving_row(std::size_t cols, const std::uint8_t* valid, 
   }
 }
 
+// Pixel i's Doppler compensated by the velocity h of its head's origin: what the ego twist does
+// not explain (moving_row's residual, one pixel at a time).
+double doppler_residual(const Scan& scan, const ScanBeams& beams, const Eigen::Vector3d& h,
+                        std::size_t i) {
+  return static_cast<double>(scan.radial_velocity_mps[i]) + beams.e(i).dot(h);
+}
+
 // The range band of a pixel (MotionPipelineParams::range_noise_band_m > 0).
 std::size_t range_band(float range_m, const MotionPipelineParams& params) {
   const auto bands = static_cast<std::size_t>(params.range_noise_bands);
@@ -117,9 +124,7 @@ bool any_band_noisier(const Scan& scan, const ScanBeams& beams,
     for (std::size_t c = 0; c < cols; ++c) {
       const std::size_t i = r * cols + c;
       if (!scan.valid[i] || moving[i] != 0) continue;
-      const Eigen::Vector3d& h = head_velocity[c];
-      const double res = static_cast<double>(scan.radial_velocity_mps[i]) + beams.ex[i] * h.x() +
-                         beams.ey[i] * h.y() + beams.ez[i] * h.z();
+      const double res = doppler_residual(scan, beams, head_velocity[c], i);
       const std::size_t b = range_band(scan.range_m[i], params);
       sum_sq[b] += res * res;
       ++count[b];
@@ -166,8 +171,8 @@ std::vector<double> cell_sigmas(const Scan& scan, const ScanBeams& beams,
       const std::size_t i = r * cols + c;
       if (!scan.valid[i]) continue;
       const Eigen::Vector3d e = beams.e(i);
-      spread.push_back(static_cast<float>(
-          std::abs(static_cast<double>(scan.radial_velocity_mps[i]) + e.dot(head_velocity[c]))));
+      spread.push_back(
+          static_cast<float>(std::abs(doppler_residual(scan, beams, head_velocity[c], i))));
       twist_var.push_back(static_cast<float>(e.dot(cov * e)));
       cell_of.push_back(
           static_cast<std::uint32_t>(r * bands + range_band(scan.range_m[i], params)));
@@ -248,8 +253,7 @@ std::vector<std::uint8_t> moving_mask(const Scan& scan, const ScanBeams& beams, 
     const double s = cell_sigma[(i / cols) * bands + range_band(scan.range_m[i], params)];
     if (s == 0.0) continue;
     const Eigen::Vector3d e = beams.e(i);
-    const double residual =
-        static_cast<double>(scan.radial_velocity_mps[i]) + e.dot(head_velocity[i % cols]);
+    const double residual = doppler_residual(scan, beams, head_velocity[i % cols], i);
     moving[i] = residual * residual > ms2 * (s * s + e.dot(cov * e)) ? 1 : 0;
   }
   return moving;

@@ -1,3 +1,5 @@
+#include "fmcw/eval/frame_source.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -5,7 +7,6 @@
 
 #include "fmcw/core/ego_motion.hpp"
 #include "fmcw/core/errors.hpp"
-#include "fmcw/eval/frame_source.hpp"
 #include "fmcw/io/dataset_header.hpp"
 #include "fmcw/io/pcd.hpp"
 #include "fmcw/io/truth_tables.hpp"
