@@ -106,6 +106,11 @@ core::Frame DatasetSource::frame(std::size_t k) {
   // AevaScenesSource does): back in the sensor frame with the ego motion of the dataset's own
   // truth, so that the ego velocity is measured and tracks are carried with the rig.
   if (f.scan.velocity_frame == core::VelocityFrame::kEgoCompensated) {
+    if (!t.ego.velocity_mps.allFinite() || !t.ego.angular_velocity_rps.allFinite()) {
+      throw core::FileError((fs::path(info_.path) / "ego.csv").string() + ": frame " +
+                            std::to_string(k) + ": the ego velocity is not finite, and " + file +
+                            " is ego-compensated: it is undone with that velocity");
+    }
     core::uncompensate_ego_velocity(
         f, core::EgoMotion{t.ego.velocity_mps, t.ego.angular_velocity_rps});
   }

@@ -9,9 +9,14 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <sstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "fmcw/core/ego_motion.hpp"
+#include "fmcw/core/errors.hpp"
 #include "fmcw/eval/evaluator.hpp"
 #include "fmcw/io/dataset_header.hpp"
 #include "fmcw/io/pcd.hpp"
@@ -171,6 +176,33 @@ TEST_F(DatasetOnDisk, EgoCompensatedFramesAreEvaluatedBackInTheSensorFrame) {
     EXPECT_EQ(a.objects_evaluated, b.objects_evaluated) << m;
     EXPECT_NEAR(a.motion.accuracy(), b.motion.accuracy(), 1e-9) << m;
     EXPECT_NEAR(a.median_error_mps, b.median_error_mps, 1e-3) << m;
+  }
+  // An ego velocity that is not finite cannot undo the compensation: named, file and frame.
+  const fs::path ego_csv = fs::path(comp_ds) / "ego.csv";
+  std::ifstream in(ego_csv, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  const std::size_t row = text.find("\n2,");
+  ASSERT_NE(row, std::string::npos);
+  const std::size_t end = text.find('\n', row + 1);
+  std::vector<std::string> fields;
+  std::stringstream line(text.substr(row + 1, end - row - 1));
+  for (std::string field; std::getline(line, field, ',');) fields.push_back(field);
+  ASSERT_GT(fields.size(), 9u);
+  fields[9] = "nan";  // vx_mps
+  std::string joined;
+  for (std::size_t n = 0; n < fields.size(); ++n) joined += (n ? "," : "") + fields[n];
+  text.replace(row + 1, end - row - 1, joined);
+  std::ofstream(ego_csv, std::ios::binary) << text;
+  try {
+    DatasetSource bad(comp_ds);
+    bad.frame(2);
+    FAIL() << "a NaN ego velocity undid the compensation";
+  } catch (const core::FileError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find(ego_csv.string() + ": frame 2: the ego velocity is not finite"),
+        std::string::npos)
+        << e.what();
   }
 }
 
