@@ -92,6 +92,7 @@ void validate_filter(const TrackerParams& p) {
   ca.positive("min_scale", p.calibration.min_scale);
   FMCW_CHECK_ARG(p.calibration.min_scale <= 1.0,
                  "tracking.calibration.min_scale must be <= 1, got ", p.calibration.min_scale);
+  mo.at_least("max_noise_scale", p.motion.max_noise_scale, 1.0);
   mo.non_negative("noise_gain_up", p.motion.noise_gain_up);
   mo.non_negative("noise_gain_down", p.motion.noise_gain_down);
   FMCW_CHECK_ARG(p.motion.noise_gain_down < 1.0,

@@ -104,17 +104,19 @@ TEST(TrackingCtrv, TheNoiseScaleFollowsTheCorrectionsWithinItsBounds) {
   EXPECT_DOUBLE_EQ(t.noise_scale, 0.9 * 0.95);
   for (int k = 0; k < 100; ++k) adapt_noise(t, 0.0, 2.0, p);
   EXPECT_DOUBLE_EQ(t.noise_scale, p.motion.min_noise_scale);
-  // Three times what it expects (a manoeuvre begins): s (1 + 0.5 (3 - 1)) = 2 s, up to 1.
+  // Three times what it expects (a manoeuvre begins): s (1 + 0.5 (3 - 1)) = 2 s, up to
+  // max_noise_scale.
   adapt_noise(t, 6.0, 2.0, p);
   EXPECT_DOUBLE_EQ(t.noise_scale, 2.0 * p.motion.min_noise_scale);
   for (int k = 0; k < 10; ++k) adapt_noise(t, 6.0, 2.0, p);
-  EXPECT_DOUBLE_EQ(t.noise_scale, 1.0);
+  EXPECT_DOUBLE_EQ(t.noise_scale, p.motion.max_noise_scale);
   // A correction that says nothing (no expectation, not finite) leaves the scale as it is.
   t.noise_scale = 0.5;
   adapt_noise(t, 1.0, 0.0, p);
   adapt_noise(t, std::numeric_limits<double>::quiet_NaN(), 2.0, p);
   EXPECT_DOUBLE_EQ(t.noise_scale, 0.5);
-  // Walkers, objects at a walker's pace and turning tracks go back to the full noise.
+  // Walkers, objects at a walker's pace and turning tracks go back to the full noise; turning
+  // ones keep at least it.
   for (Track other : {car_track(2.0), car_track(10.0, 0.1)}) {
     other.noise_scale = 0.5;
     adapt_noise(other, 0.0, 2.0, p);
@@ -125,11 +127,44 @@ TEST(TrackingCtrv, TheNoiseScaleFollowsTheCorrectionsWithinItsBounds) {
   walker.noise_scale = 0.5;
   adapt_noise(walker, 0.0, 2.0, p);
   EXPECT_EQ(walker.noise_scale, 1.0);
-  // min_noise_scale = 1 (the default): the fixed noises.
-  const TrackerParams fixed;
+  // min_noise_scale = max_noise_scale = 1: the fixed noises.
+  TrackerParams fixed;
+  fixed.motion.max_noise_scale = 1.0;
   Track f = car_track(10.0);
   adapt_noise(f, 0.0, 2.0, fixed);
+  adapt_noise(f, 6.0, 2.0, fixed);
   EXPECT_EQ(f.noise_scale, 1.0);
+}
+
+TEST(TrackingCtrv, AManoeuvreRaisesTheNoiseAboveTheFullNoiseAndAWalkerDoesNot) {
+  const TrackerParams p;  // the defaults: never below the full noise, up to 4 times it
+  ASSERT_EQ(p.motion.min_noise_scale, 1.0);
+  ASSERT_EQ(p.motion.max_noise_scale, 4.0);
+  // A car corrected by three times what its filter expects, update after update: 1, 2, 4, 4.
+  Track car = car_track(10.0);
+  adapt_noise(car, 6.0, 2.0, p);
+  EXPECT_DOUBLE_EQ(car.noise_scale, 2.0);
+  adapt_noise(car, 6.0, 2.0, p);
+  EXPECT_DOUBLE_EQ(car.noise_scale, 4.0);
+  adapt_noise(car, 6.0, 2.0, p);
+  EXPECT_DOUBLE_EQ(car.noise_scale, 4.0);
+  // The manoeuvre over (corrections of none of what it expects): down by a tenth an update, to
+  // the full noise and no further.
+  adapt_noise(car, 0.0, 2.0, p);
+  EXPECT_DOUBLE_EQ(car.noise_scale, 3.6);
+  for (int k = 0; k < 100; ++k) adapt_noise(car, 0.0, 2.0, p);
+  EXPECT_DOUBLE_EQ(car.noise_scale, 1.0);
+  // A turning car likewise; an object at a walker's pace and a small one keep the full noise.
+  Track turning = car_track(10.0, 0.5);
+  adapt_noise(turning, 6.0, 2.0, p);
+  EXPECT_DOUBLE_EQ(turning.noise_scale, 2.0);
+  Track slow = car_track(2.0);
+  Track small = car_track(10.0);
+  small.length_m = small.width_m = 0.6;
+  for (Track* t : {&slow, &small}) {
+    adapt_noise(*t, 6.0, 2.0, p);
+    EXPECT_EQ(t->noise_scale, 1.0);
+  }
 }
 
 // A linear case for the filter's consistency: a car track with a correlated prior, and a
@@ -378,6 +413,50 @@ TEST(TrackingBox, AnExtentGrowingAtTheEndNotSeenMovesThePredictionNotTheMeasurem
   EXPECT_NEAR(m.centre.x(), 11.5, 1e-6);
   EXPECT_NEAR(tr.x(0), 11.5, 1e-6);
   EXPECT_NEAR(tr.x(1), 15.9, 1e-12);  // across, nothing grew
+}
+
+TEST(TrackingBox, AVehiclesHeadingSwingKeepsTheLengthItsTurnedBoxBoundsSeenEndOn) {
+  // A bus 12 x 2.5 m, centre (30, 0.5), its extents measured along +x; its velocity has swung
+  // 0.3 rad (beyond heading_reset_rad, 0.25), and only its rear face shows, across the new
+  // heading 6 m behind the centre. The box is measured afresh along the new heading, but the old
+  // box turned by the swing bounds the body: at least 12 cos 0.3 - 2.5 sin 0.3 = 10.72 m long,
+  // anchored at the face (the rig at the origin sees it), where the face's pixels lie. Measured
+  // as the face alone it would be a sliver at the face, its centre 6 m from the old one.
+  const double swing = 0.3;
+  const Eigen::Vector2d u(std::cos(swing), std::sin(swing));
+  const Eigen::Vector2d w(-u.y(), u.x());
+  const Eigen::Vector2d centre(30.0, 0.5);
+  const Eigen::Vector2d face = centre - 6.0 * u;
+  HandScan h;
+  for (int r = 1; r <= 3; ++r) {
+    for (int c = 4; c <= 15; ++c) {
+      const Eigen::Vector2d q = face + (1.2 - 2.4 * (c - 4) / 11.0) * w;  // column 0 is the left
+      h.set(r, c, Eigen::Vector3d(q.x(), q.y(), 0.5 + 0.8 * (3 - r)), 0.0);
+    }
+  }
+  const ScanBeams beams(h.scan);
+  const Frame frame = standing_frame(h.scan, beams);
+  const TrackerParams p;
+  Track bus;
+  bus.x << centre.x(), centre.y(), 5.0 * u.x(), 5.0 * u.y(), 0.0;
+  bus.length_m = 12.0;
+  bus.width_m = 2.5;
+  bus.heading_rad = bus.extents_heading_rad = 0.0;
+  const BoxMeasurement m =
+      measure_box(bus, every_valid_pixel(h.scan), false, frame, ViewEdges(h.scan, 0.0), p);
+  ASSERT_TRUE(m.seen);
+  EXPECT_NEAR(bus.extents_heading_rad, swing, 1e-12);
+  const double least = 12.0 * std::cos(swing) - 2.5 * std::sin(swing);
+  EXPECT_NEAR(bus.length_m, least, 1e-4);
+  EXPECT_NEAR(bus.width_m, 2.4, 1e-4);  // the face's
+  EXPECT_NEAR((m.centre - (face + 0.5 * least * u)).norm(), 0.0, 1e-4);
+  // A walker's box swinging as much is measured afresh: a walker is no rigid body.
+  Track walker = bus;
+  walker.length_m = walker.width_m = 0.6;
+  walker.heading_rad = walker.extents_heading_rad = 0.0;
+  walker.x.segment<2>(2) = 1.2 * u;
+  measure_box(walker, every_valid_pixel(h.scan), false, frame, ViewEdges(h.scan, 0.0), p);
+  EXPECT_LT(walker.length_m, 0.01);
 }
 
 // A walker's track heading along +x at 1.2 m/s, centre (15.5, 3.5), box 0.6 x 0.5 m, and an

@@ -38,7 +38,9 @@ void predict(Track& t, double dt, const TrackerParams::Motion& p) {
     b(k) -= h;
     F.col(k) = (propagate(a, dt) - propagate(b, dt)) / (2.0 * h);
   }
-  const double q = t.noise_scale * p.accel_sigma_mps2 * p.accel_sigma_mps2;
+  // Below 1 the scale is on both noises (a vehicle driving steadily); above 1 on the yaw
+  // acceleration's alone (a turn sharper than its noise: Motion::max_noise_scale).
+  const double q = std::min(1.0, t.noise_scale) * p.accel_sigma_mps2 * p.accel_sigma_mps2;
   Mat5 Q = Mat5::Zero();
   for (int k = 0; k < 2; ++k) {
     Q(k, k) = q * dt * dt * dt * dt / 4.0;
@@ -54,15 +56,20 @@ void predict(Track& t, double dt, const TrackerParams::Motion& p) {
 
 void adapt_noise(Track& t, double correction, double expected, const TrackerParams& p) {
   const TrackerParams::Motion& pm = p.motion;
-  if (pm.min_noise_scale >= 1.0 || !(expected > 1e-9) || !std::isfinite(correction)) return;
-  // What unsteady tracks do next is what the full noise is for.
-  if (t.unsteady(p)) {
+  if ((pm.min_noise_scale >= 1.0 && pm.max_noise_scale <= 1.0) || !(expected > 1e-9) ||
+      !std::isfinite(correction))
+    return;
+  // A gait, or walkers side by side, is no manoeuvre: the full noise is for what they do next.
+  if (t.small(p) || t.velocity().norm() <= p.small.walker_max_speed_mps) {
     t.noise_scale = 1.0;
     return;
   }
+  // A turning track's next motion is not what its past updates say: at least the full noise.
+  const double lowest = t.unsteady(p) ? 1.0 : pm.min_noise_scale;
   const double r = correction / expected;
   const double gain = r > 1.0 ? pm.noise_gain_up : pm.noise_gain_down;
-  t.noise_scale = std::clamp(t.noise_scale * (1.0 + gain * (r - 1.0)), pm.min_noise_scale, 1.0);
+  t.noise_scale = std::clamp(t.noise_scale * (1.0 + gain * (r - 1.0)), lowest,
+                             std::max(lowest, pm.max_noise_scale));
 }
 
 void follow_corrections(Track& t, double correction, double expected, const TrackerParams::Calibration& p) {

@@ -69,13 +69,15 @@ namespace {
 // The box's heading from the velocity once the object moves. Extents measured along a heading
 // that has since swung, beyond what the yaw rate turned the body (a poor first velocity,
 // corrected over a few frames), say nothing about the box along the new one: returns whether
-// they are to be measured afresh.
-bool update_heading(Track& tr, bool born, const TrackerParams::Box& p) {
+// they are to be measured afresh, with the swing (the heading's, from the extents' axis) [rad].
+bool update_heading(Track& tr, bool born, const TrackerParams::Box& p, double& swing) {
   const Eigen::Vector2d v = tr.velocity();
   bool resize = born;
+  swing = 0.0;
   if (v.norm() > 1.0) {
     const double heading = std::atan2(v.y(), v.x());
-    resize = resize || std::abs(std::remainder(heading - tr.extents_heading_rad, 2.0 * M_PI)) > p.heading_reset_rad;
+    swing = std::abs(std::remainder(heading - tr.extents_heading_rad, 2.0 * M_PI));
+    resize = resize || swing > p.heading_reset_rad;
     tr.heading_rad = heading;
   }
   if (resize) tr.extents_heading_rad = tr.heading_rad;
@@ -255,7 +257,8 @@ void centre_from_silhouette(Track& tr, const Outline& o, bool born, const Frame&
 
 BoxMeasurement measure_box(Track& tr, const Group& g, bool born, const Frame& frame, const ViewEdges& edges,
                            const TrackerParams& p) {
-  const bool resize = update_heading(tr, born, p.box);
+  double swing = 0.0;
+  const bool resize = update_heading(tr, born, p.box, swing);
   const Eigen::Vector2d u(std::cos(tr.heading_rad), std::sin(tr.heading_rad));
   const Eigen::Vector2d wv(-u.y(), u.x());
   // The box is measured on the pixels one scan found moving. When the track claimed more than
@@ -288,8 +291,22 @@ BoxMeasurement measure_box(Track& tr, const Group& g, bool born, const Frame& fr
     const double cap_l = tr.walker ? walker_cap : p.box.max_length_m;
     const double cap_w = tr.walker ? walker_cap : p.box.max_width_m;
     tr.seen_extent_m = std::max(o.a1 - o.a0, o.b1 - o.b0);
-    tr.length_m = std::min(resize ? o.a1 - o.a0 : std::max(tr.length_m, o.a1 - o.a0), cap_l);
-    tr.width_m = std::min(resize ? o.b1 - o.b0 : std::max(tr.width_m, o.b1 - o.b0), cap_w);
+    // A heading swing re-measures the box along the new axis, but a vehicle does not change
+    // size: the extents it had, a box around its body turned by the swing, bound its length and
+    // width from below (l >= L cos(swing) - W sin(swing), and so the width). A bus seen end-on
+    // as its heading swings would otherwise shrink to the face it shows, its box a sliver left
+    // at its old centre, metres from its pixels.
+    double lo_l = 0.0;
+    double lo_w = 0.0;
+    if (resize && !born && swing < 0.25 * M_PI && !tr.walker && tr.vehicle(p) &&
+        tr.velocity().norm() > p.small.walker_max_speed_mps) {
+      lo_l = length_before * std::cos(swing) - width_before * std::sin(swing);
+      lo_w = width_before * std::cos(swing) - length_before * std::sin(swing);
+    }
+    tr.length_m =
+        std::min(resize ? std::max(o.a1 - o.a0, lo_l) : std::max(tr.length_m, o.a1 - o.a0), cap_l);
+    tr.width_m =
+        std::min(resize ? std::max(o.b1 - o.b0, lo_w) : std::max(tr.width_m, o.b1 - o.b0), cap_w);
     tr.z_min_m = o.zmin;  // this frame's: the ground under an object changes at curbs
     // A walker inside the band shows only its swinging limbs: its top stays where it was.
     tr.z_max_m = small_track && !born ? std::max(o.zmax, tr.z_max_m) : o.zmax;

@@ -108,20 +108,34 @@ struct TrackerParams {
     /// deviation capped at this; along a direction the fit resolves no better than this, the
     /// prior's velocity is 0 (the fit's value there is no measurement) [m/s].
     double max_initial_velocity_sigma_mps = 6.0;
-    double max_yaw_rate_rps = 1.5;        ///< bound of a track's yaw rate [rad/s]
-    /// Noise matched to the innovations (off by default: docs/EVALUATION.md, "A noise that
-    /// follows the track"). The noises above are those of a manoeuvring object; a vehicle
-    /// driving straight is corrected by its updates less than its covariance expects, and with
-    /// min_noise_scale < 1 its noise variances are scaled down, to min_noise_scale of them at the
-    /// least. Each update measures r = dx^T P^-1 dx / E[dx^T P^-1 dx] (dx the update's
-    /// correction, P the predicted covariance; E[...] = 5 - tr(P^-1 P_updated) for a consistent
-    /// filter) and moves the track's scale s to s (1 + gain (r - 1)) within [min_noise_scale, 1],
-    /// gain noise_gain_up when r > 1 (a manoeuvre begins: the scale comes back within a few
-    /// updates) and noise_gain_down otherwise. Small tracks, tracks at a walker's pace
-    /// (small.walker_max_speed_mps) and turning ones (|omega| > turning.min_turn_rate_rps) keep
-    /// the full noise. A turn that builds up slowly stays under that bound and is followed late:
-    /// on generated traffic the tails of objects of 200 points and more grew. 1: the fixed noises.
+    /// Bound of a track's yaw rate [rad/s]: a car turning a corner at 6 m/s on a 3 m radius
+    /// turns at 2 rad/s.
+    double max_yaw_rate_rps = 2.0;
+    /// Noise matched to the innovations. Each update measures r = dx^T P^-1 dx / E[dx^T P^-1 dx]
+    /// (dx the update's correction, P the predicted covariance; E[...] = 5 - tr(P^-1 P_updated)
+    /// for a consistent filter) and moves the track's noise scale s to
+    /// s (1 + gain (r - 1)) within [min_noise_scale, max_noise_scale], gain noise_gain_up when
+    /// r > 1 and noise_gain_down otherwise. Small tracks and tracks at a walker's pace
+    /// (small.walker_max_speed_mps: a gait, or walkers side by side, is no manoeuvre) keep the
+    /// full noise (s = 1); turning ones (|omega| > turning.min_turn_rate_rps) at least the full
+    /// noise.
+    ///
+    /// Above 1 (max_noise_scale > 1, the default), on the yaw acceleration's noise alone: a turn
+    /// sharper than it (a car swinging into a side street at 2 rad/s, its yaw rate building up
+    /// and falling back by 4 rad/s^2) is corrected by every update more than the filter
+    /// expects, and its noise rises within a few updates; the filter then follows the turn
+    /// instead of lagging it and overshooting after it (docs/EVALUATION.md, "A manoeuvre's
+    /// noise"). The acceleration's noise stays: raised with it, the velocity was further off
+    /// after the turn than with the fixed noises. 1: never above.
+    ///
+    /// Below 1 (min_noise_scale < 1; off by default: docs/EVALUATION.md, "A noise that follows
+    /// the track"), on both noises: the noises above are those of a manoeuvring object; a
+    /// vehicle driving straight is corrected by its updates less than its covariance expects,
+    /// and its noise variances are scaled down, to min_noise_scale of them at the least. A turn
+    /// that builds up slowly stays under the turning bound and is followed late: on generated
+    /// traffic the tails of objects of 200 points and more grew. 1: never below.
     double min_noise_scale = 1.0;
+    double max_noise_scale = 4.0;
     double noise_gain_up = 0.5;
     double noise_gain_down = 0.1;
   } motion;
@@ -449,7 +463,8 @@ struct Track {
   bool outline_cut = false;
   /// The last update measured the outline's axis (TrackerParams::Heading).
   bool axis_seen = false;
-  /// Scale of the motion noise variances (TrackerParams::Motion::min_noise_scale).
+  /// Scale of the motion noise variances (TrackerParams::Motion::min_noise_scale and
+  /// max_noise_scale).
   double noise_scale = 1.0;
   /// The updates' corrections dx^T P^-1 dx and what a consistent filter expects of them,
   /// summed with TrackerParams::Calibration::memory.
