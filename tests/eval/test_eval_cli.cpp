@@ -39,9 +39,10 @@ class EvalCli : public fmcw::test::TempDirTest {
     return ds;
   }
   // Evaluating ds must fail as a bad file does, with one error line containing `names`, and
-  // write no report.
+  // write no report: not even the report folder, which did not exist before.
   void expect_rejected(const std::string& ds, const std::string& names) {
     const std::string out = path("report");
+    ASSERT_FALSE(fs::exists(out));
     const CliResult r = run("evaluate " + ds + " -o " + out);
     EXPECT_EQ(r.code, fmcw::test::kExitFile) << r.output;
     const std::vector<std::string> errors = error_lines(r.output);
@@ -51,6 +52,7 @@ class EvalCli : public fmcw::test::TempDirTest {
     for (const char* f : {"metrics.json", "frames.csv", "objects.csv", "report.html"}) {
       EXPECT_FALSE(fs::exists(fs::path(out) / f)) << f;
     }
+    EXPECT_FALSE(fs::exists(out)) << "an empty report folder left behind";
   }
 };
 
@@ -133,6 +135,15 @@ TEST_F(EvalCli, TruncatedFrameIsNamed) {
   const fs::path frame = fs::path(ds) / "frames" / "000001.pcd";
   fs::resize_file(frame, fs::file_size(frame) / 2);
   expect_rejected(ds, "000001.pcd");
+  // A report folder that was there before stays, with what was in it.
+  const fs::path kept = path("kept");
+  fs::create_directories(kept);
+  std::ofstream(kept / "notes.txt") << "mine\n";
+  EXPECT_EQ(run("evaluate " + ds + " -o " + kept.string()).code, fmcw::test::kExitFile);
+  EXPECT_EQ(slurp(kept / "notes.txt"), "mine\n");
+  fs::remove(kept / "notes.txt");
+  EXPECT_EQ(run("evaluate " + ds + " -o " + kept.string()).code, fmcw::test::kExitFile);
+  EXPECT_TRUE(fs::is_directory(kept)) << "an empty folder that was there before is kept";
 }
 
 TEST_F(EvalCli, TruthTablesThatDoNotMatchTheFrames) {

@@ -26,10 +26,24 @@ struct EvaluateOptions {
   double mot_iou = 0.5;
   bool no_figures = false;
 };
-}  // namespace
 
-int evaluate_and_report(eval::FrameSource& source, const eval::EvaluationParams& params, const std::string& output,
-                        bool no_figures) {
+// Runs `write`, which writes a report into `output`. If it fails and `output` did not exist
+// before, the folder goes again when nothing is in it: an evaluation that stops on a bad frame
+// leaves no empty report folder behind (one that was there before stays, as it was).
+template <class Write>
+int into_report_folder(const std::string& output, Write&& write) {
+  std::error_code ec;
+  const bool made = !std::filesystem::exists(output, ec);
+  try {
+    return write();
+  } catch (...) {
+    if (made && std::filesystem::is_empty(output, ec)) std::filesystem::remove(output, ec);
+    throw;
+  }
+}
+
+int write_evaluation_report(eval::FrameSource& source, const eval::EvaluationParams& params,
+                            const std::string& output, bool no_figures) {
   eval::ReportOptions report;
   report.dir = output;
   report.tool_version = FMCW_VERSION;
@@ -43,10 +57,17 @@ int evaluate_and_report(eval::FrameSource& source, const eval::EvaluationParams&
   std::cerr << "report: " << output << "/" << (no_figures ? "metrics.json" : "report.html") << "\n";
   return 0;
 }
+}  // namespace
+
+int evaluate_and_report(eval::FrameSource& source, const eval::EvaluationParams& params,
+                        const std::string& output, bool no_figures) {
+  return into_report_folder(
+      output, [&] { return write_evaluation_report(source, params, output, no_figures); });
+}
 
 namespace {
-int evaluate_folder_and_report(const std::string& folder, int frames, const eval::EvaluationParams& params,
-                               const std::string& output, bool no_figures) {
+int write_folder_report(const std::string& folder, int frames, const eval::EvaluationParams& params,
+                        const std::string& output, bool no_figures) {
   eval::ReportOptions report;
   report.dir = output;
   report.tool_version = FMCW_VERSION;
@@ -64,6 +85,13 @@ int evaluate_folder_and_report(const std::string& folder, int frames, const eval
   eval::evaluate_folder_to_report(folder, frames, params, report, callbacks, &std::cerr);
   std::cerr << "report: " << output << "/" << (no_figures ? "metrics.json" : "report.html") << "\n";
   return 0;
+}
+
+int evaluate_folder_and_report(const std::string& folder, int frames,
+                               const eval::EvaluationParams& params, const std::string& output,
+                               bool no_figures) {
+  return into_report_folder(
+      output, [&] { return write_folder_report(folder, frames, params, output, no_figures); });
 }
 }  // namespace
 
