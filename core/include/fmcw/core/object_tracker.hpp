@@ -487,8 +487,9 @@ struct Track {
   }
   /// Its next motion is not what its past updates say: a small object (a walker's gait), one at
   /// a walker's pace (walkers side by side make one box) or a turning one (|yaw rate| above
-  /// turning.min_turn_rate_rps). Keeps the full noise (Motion::min_noise_scale) and reports the
-  /// filter's covariance (Calibration).
+  /// turning.min_turn_rate_rps). Keeps at least the full noise (Motion::min_noise_scale; a
+  /// turning one may have more, Motion::max_noise_scale) and reports the filter's covariance
+  /// (Calibration).
   bool unsteady(const TrackerParams& p) const {
     return small(p) || velocity().norm() <= p.small.walker_max_speed_mps || std::abs(yaw_rate()) > p.turning.min_turn_rate_rps;
   }
