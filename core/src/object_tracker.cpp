@@ -109,6 +109,11 @@ void validate_filter(const TrackerParams& p) {
   tu.non_negative("release_hold_updates", p.turning.release_hold_updates);
   tu.non_negative("hold_rate_fraction (0: never)", p.turning.hold_rate_fraction);
   tu.non_negative("max_left_in_mps (0: never)", p.turning.max_left_in_mps);
+  tu.non_negative("straight_window_s (0: never)", p.turning.straight_window_s);
+  tu.at_least("straight_min_axes", p.turning.straight_min_axes, 3);
+  tu.positive("straight_sigmas", p.turning.straight_sigmas);
+  tu.positive("straight_consistency_sigmas", p.turning.straight_consistency_sigmas);
+  tu.positive("straight_max_sigma_ratio", p.turning.straight_max_sigma_ratio);
 }
 
 }  // namespace
@@ -133,6 +138,7 @@ void TrackerParams::validate() const {
   FMCW_CHECK_ARG(heading.face_max_angle_rad >= 0.0 && heading.face_max_angle_rad <= 0.5 * M_PI,
                  "tracking.heading.face_max_angle_rad must be in [0, pi/2], got ", heading.face_max_angle_rad);
   h.positive("face_sigma_rad", heading.face_sigma_rad);
+  h.non_negative("face_oblique_sigma_rad", heading.face_oblique_sigma_rad);
   const FieldCheck a{"association"};
   a.non_negative("gate_m", association.gate_m);
   a.at_least("min_cluster_pixels", association.min_cluster_pixels, 3);

@@ -733,11 +733,28 @@ TEST(TrackingOutlineAxis, AFaceSeenEndOnGivesTheAxisAsItsNormal) {
   ASSERT_FALSE(a.informative);
   ASSERT_GE(a.columns, p.face_min_columns);
   EXPECT_TRUE(is_face(a, Eigen::Vector2d::Zero(), heading, p));
-  const double sigma = std::sqrt(face_heading_variance(a, false, p));
+  const Eigen::Vector2d sensor = Eigen::Vector2d::Zero();
+  const double sigma = std::sqrt(face_heading_variance(a, sensor, false, p));
   EXPECT_LT(axis_angle(Eigen::Vector2d(-a.side_axis.y(), a.side_axis.x()), yaw), 1.96 * sigma);
-  EXPECT_NEAR(sigma, std::hypot(p.sigma_rad, p.face_sigma_rad / std::sqrt(a.columns)), 1e-12);
-  EXPECT_DOUBLE_EQ(face_heading_variance(a, true, p),
-                   p.cut_sigma_factor * p.cut_sigma_factor * sigma * sigma);
+  // Its noise: the columns' share, and the obliquity's (|cos| of the angle between the face and
+  // the line of sight; under 0.05 here, square to it within 3 degrees).
+  const double cosine = std::abs(a.side_axis.dot((a.at - sensor).normalized()));
+  EXPECT_LT(cosine, 0.05);
+  const double base = p.sigma_rad * p.sigma_rad + p.face_sigma_rad * p.face_sigma_rad / a.columns;
+  const double oblique = p.face_oblique_sigma_rad * cosine;
+  EXPECT_NEAR(sigma * sigma, base + oblique * oblique, 1e-15);
+  EXPECT_NEAR(face_heading_variance(a, sensor, true, p),
+              p.cut_sigma_factor * p.cut_sigma_factor * base + oblique * oblique, 1e-15);
+  // Seen from a sensor 7.5 m to the side (the face 11 degrees from square to the line of sight),
+  // the obliquity's share is 0.2 times |cos|: 0.04 rad of noise, where the columns' is 0.01.
+  const Eigen::Vector2d aside(0.0, -6.0);
+  const double cos_aside = std::abs(a.side_axis.dot((a.at - aside).normalized()));
+  EXPECT_GT(cos_aside, 0.15);
+  EXPECT_NEAR(face_heading_variance(a, aside, false, p),
+              base + std::pow(p.face_oblique_sigma_rad * cos_aside, 2), 1e-15);
+  TrackerParams::Heading no_oblique = p;
+  no_oblique.face_oblique_sigma_rad = 0.0;
+  EXPECT_NEAR(face_heading_variance(a, aside, false, no_oblique), base, 1e-15);
   // Not a face: a track heading across it (a rider's or a van's side shows a line along its
   // way); seen from a sensor to whose line of sight the line is not square (a side at a grazing
   // angle); in fewer columns than face_min_columns; with face_min_length_m 0 (the switch).
@@ -796,7 +813,8 @@ TEST(TrackingOutlineAxis, ACarSeenEndOnShowsItsRoofBehindItsRearAndTheRearIsTheF
   EXPECT_GT(std::abs(a.axis.dot(centre.normalized())), p.heading.face_sight_cosine);
   EXPECT_NEAR(a.side_length_m, 1.8, 0.2);
   EXPECT_TRUE(is_face(a, Eigen::Vector2d::Zero(), v.normalized(), p.heading));
-  const double sigma = std::sqrt(face_heading_variance(a, false, p.heading));
+  const double sigma =
+      std::sqrt(face_heading_variance(a, Eigen::Vector2d::Zero(), false, p.heading));
   EXPECT_LT(axis_angle(Eigen::Vector2d(-a.side_axis.y(), a.side_axis.x()), yaw), 1.96 * sigma);
   const ScanBeams beams(c.rendered.scan);
   const Frame frame = standing_frame(c.rendered.scan, beams);
@@ -815,6 +833,23 @@ TEST(TrackingOutlineAxis, ACarSeenEndOnShowsItsRoofBehindItsRearAndTheRearIsTheF
 }
 
 // ---- A turn released while its rate holds up -----------------------------------------------
+
+// The one cluster of the case's pixels as the track's group reports it (relabel_estimate).
+ClusterEstimate report_one(const AxisCase& c, const Frame& frame, const Track& tr, const Group& g,
+                           const TrackerParams& p) {
+  MotionEstimate est;
+  est.labels.assign(c.rendered.scan.size(), 0);
+  for (const std::uint32_t i : c.pixels) est.labels[i] = 1;
+  ClusterEstimate ce;
+  ce.id = 1;
+  ce.num_pixels = static_cast<int>(c.pixels.size());
+  ce.velocity.valid = true;
+  est.clusters.push_back(ce);
+  const std::vector<Group> groups{g};
+  relabel_estimate(frame, {tr}, groups, group_of_labels(groups, 1), {}, p, est);
+  EXPECT_EQ(est.clusters.size(), 1u);
+  return est.clusters.front();
+}
 
 TEST(TrackingTurning, ATurnReleasedWhileItsRateHoldsUpIsHeldAndOneThatEndsIsNot) {
   // A cyclist's track turning at 0.2 rad/s, resolved at 0.05 rad/s of sigma; then its position
@@ -892,20 +927,7 @@ TEST(TrackingTurning, AHeldTurnIsTakenOffTheReportedVelocity) {
   Group g;
   g.found = c.pixels;
   g.clusters = {1};
-  const auto report = [&](const TrackerParams& p) {
-    MotionEstimate est;
-    est.labels.assign(c.rendered.scan.size(), 0);
-    for (const std::uint32_t i : c.pixels) est.labels[i] = 1;
-    ClusterEstimate ce;
-    ce.id = 1;
-    ce.num_pixels = static_cast<int>(c.pixels.size());
-    ce.velocity.valid = true;
-    est.clusters.push_back(ce);
-    const std::vector<Group> groups{g};
-    relabel_estimate(frame, {tr}, groups, group_of_labels(groups, 1), {}, p, est);
-    EXPECT_EQ(est.clusters.size(), 1u);
-    return est.clusters.front();
-  };
+  const auto report = [&](const TrackerParams& p) { return report_one(c, frame, tr, g, p); };
   const TrackerParams held;
   ASSERT_TRUE(turn_held(tr, held));
   TrackerParams not_held;
@@ -923,6 +945,77 @@ TEST(TrackingTurning, AHeldTurnIsTakenOffTheReportedVelocity) {
   // What is left of the rate is in the covariance: the error is within its 95 % ellipse.
   const Eigen::Vector2d e = a.velocity.velocity_mps.head<2>() - v;
   EXPECT_LT(e.dot(a.velocity.covariance.topLeftCorner<2, 2>().ldlt().solve(e)), 5.991);
+}
+
+TEST(TrackingTurning, AStraightCarsFalseYawRateIsNotTakenOffWhereItsAxesSayStraight) {
+  // A car 30 m ahead, driving straight along x at 15 m/s, its axis measured. Its filter holds a
+  // false yaw rate of 0.015 rad/s (0.9 of its 0.017 rad/s sigma), and a centre velocity off by
+  // -w z x (o - c) (the Doppler pins the velocity at the beams' origin, v + w z x (o - c), to
+  // the truth). Its last 2 s of axes, 0.01 rad of noise each, lie on the x axis: their line's
+  // slope is 0 within its 0.004 rad/s sigma, far tighter than the filter's, and the filter's
+  // rate within one sigma of it. The body drives straight: the report is the Doppler's velocity,
+  // the truth, with no yaw rate. Without the rule (straight_window_s 0), the shrinkage took
+  // w^3 / (w^2 + sigma^2) of the false rate off: 0.2 m/s off across the line of sight.
+  const Eigen::Vector2d centre(30.0, 1.5), v_true(15.0, 0.0);
+  const double w = 0.015, sigma = 0.017;
+  const AxisCase c = render_box(centre, 4.5, 1.8, 0.0, 1.45);
+  ASSERT_GT(c.pixels.size(), 20u);
+  const ScanBeams beams(c.rendered.scan);
+  const Frame frame = standing_frame(c.rendered.scan, beams);
+  Group g;
+  g.found = c.pixels;
+  g.clusters = {1};
+  const Eigen::Vector2d d = mean_origin(frame, g) - centre;
+  const Eigen::Vector2d s(-d.y(), d.x());  // z x (o - c)
+  Track tr;
+  tr.id = 1;
+  tr.hits = 40;
+  tr.confirmed = true;
+  tr.vehicle_pace = true;
+  tr.length_m = 4.5;
+  tr.width_m = 1.8;
+  tr.axis_seen = true;
+  const Eigen::Vector2d v_filter = v_true - w * s;
+  tr.x << centre.x(), centre.y(), v_filter.x(), v_filter.y(), w;
+  tr.P = Mat5::Identity() * 0.01;
+  tr.P(4, 4) = sigma * sigma;
+  tr.clock_s = 4.0;
+  const auto axes_turning_at = [&](double rate) {
+    tr.axes.clear();
+    for (int k = 0; k < 20; ++k) {
+      const double t = tr.clock_s - 0.1 * (19 - k);
+      tr.axes.push_back({t, rate * (t - tr.clock_s) + 0.01 * std::sin(1.7 * k), 1e-4});
+    }
+  };
+  const auto report = [&](const TrackerParams& p) { return report_one(c, frame, tr, g, p); };
+  const TrackerParams p;
+  TrackerParams off = p;
+  off.turning.straight_window_s = 0.0;
+  axes_turning_at(0.0);
+  double b = 1.0, var_b = 0.0;
+  ASSERT_TRUE(straight_by_axes(tr, p.turning, b, var_b));
+  EXPECT_LT(std::abs(b), 2.0 * std::sqrt(var_b));
+  EXPECT_LT(std::sqrt(var_b), 0.5 * sigma);
+  const ClusterEstimate straight = report(p), shrunk = report(off);
+  EXPECT_EQ(straight.yaw_rate_rps, 0.0);
+  EXPECT_LT((straight.velocity.velocity_mps.head<2>() - v_true).norm(), 1e-9);
+  const double taken = w * w * w / (w * w + sigma * sigma);
+  EXPECT_NEAR(shrunk.yaw_rate_rps, taken, 1e-12);
+  EXPECT_GT((shrunk.velocity.velocity_mps.head<2>() - v_true).norm(), 0.15);
+  // A gentle turn the axes show (0.03 rad/s over the 2 s, 0.06 rad) is no straight body: the
+  // shrunk rate is taken off, as without the rule.
+  axes_turning_at(0.03);
+  EXPECT_FALSE(straight_by_axes(tr, p.turning, b, var_b));
+  EXPECT_NEAR(report(p).yaw_rate_rps, taken, 1e-12);
+  // Nor is a turn's onset the axes lag: the filter's rate 0.06 rad/s, over a sigma from the
+  // straight line of axes.
+  axes_turning_at(0.0);
+  tr.x(4) = 0.06;
+  EXPECT_FALSE(straight_by_axes(tr, p.turning, b, var_b));
+  tr.x(4) = w;
+  // Nor a window with too few axes (a track that has just begun to measure them).
+  tr.axes.erase(tr.axes.begin(), tr.axes.begin() + 11);
+  EXPECT_FALSE(straight_by_axes(tr, p.turning, b, var_b));
 }
 
 // ---- Association gating -------------------------------------------------------------------

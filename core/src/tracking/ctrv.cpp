@@ -51,6 +51,7 @@ void predict(Track& t, double dt, const TrackerParams::Motion& p) {
   t.x = propagate(t.x, dt);
   t.P = F * t.P * F.transpose() + Q;
   t.heading_rad += t.x(4) * dt;
+  t.clock_s += dt;
   t.extents_heading_rad += t.x(4) * dt;
 }
 

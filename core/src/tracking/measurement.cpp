@@ -3,10 +3,11 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "ctrv.hpp"
-#include "outline_axis.hpp"
 #include "fmcw/core/median.hpp"
+#include "outline_axis.hpp"
 
 namespace fmcw::core::tracking {
 
@@ -90,6 +91,67 @@ void doppler_information(const DopplerRows& d, const Vec5& x, bool small, const 
 
 }  // namespace
 
+namespace {
+
+// Keeps the axis just measured (n across the body, in the tracker's world) for
+// straight_by_axes(), and drops those older than the window.
+void record_axis(Track& tr, const Eigen::Vector2d& n, double heading_var,
+                 const TrackerParams::Turning& p) {
+  if (!(p.straight_window_s > 0.0)) return;
+  Eigen::Vector2d along(n.y(), -n.x());
+  if (along.dot(tr.velocity()) < 0.0) along = -along;
+  double angle = std::atan2(along.y(), along.x());
+  if (!tr.axes.empty())
+    angle += 2.0 * M_PI * std::round((tr.axes.back().angle_rad - angle) / (2.0 * M_PI));
+  tr.axes.push_back({tr.clock_s, angle, heading_var});
+  const auto old = std::find_if(tr.axes.begin(), tr.axes.end(), [&](const Track::AxisSample& s) {
+    return s.t_s >= tr.clock_s - p.straight_window_s - 1e-9;
+  });
+  tr.axes.erase(tr.axes.begin(), old);
+}
+
+}  // namespace
+
+bool straight_by_axes(const Track& tr, const TrackerParams::Turning& p, double& b, double& var_b) {
+  if (!(p.straight_window_s > 0.0)) return false;
+  const double since = tr.clock_s - p.straight_window_s - 1e-9;
+  // Weighted means of time and angle over the window.
+  double sw = 0.0, st = 0.0, sa = 0.0, t0 = std::numeric_limits<double>::infinity(), t1 = -t0;
+  int n = 0;
+  for (const Track::AxisSample& s : tr.axes) {
+    if (s.t_s < since || !(s.var_rad2 > 0.0)) continue;
+    const double q = 1.0 / s.var_rad2;
+    sw += q;
+    st += q * s.t_s;
+    sa += q * s.angle_rad;
+    t0 = std::min(t0, s.t_s);
+    t1 = std::max(t1, s.t_s);
+    ++n;
+  }
+  if (n < p.straight_min_axes || t1 - t0 < 0.5 * p.straight_window_s) return false;
+  const double tm = st / sw, am = sa / sw;
+  double stt = 0.0, sta = 0.0;
+  for (const Track::AxisSample& s : tr.axes) {
+    if (s.t_s < since || !(s.var_rad2 > 0.0)) continue;
+    stt += (s.t_s - tm) * (s.t_s - tm) / s.var_rad2;
+    sta += (s.t_s - tm) * (s.angle_rad - am) / s.var_rad2;
+  }
+  if (!(stt > 0.0)) return false;
+  b = sta / stt;
+  double chi2 = 0.0;
+  for (const Track::AxisSample& s : tr.axes) {
+    if (s.t_s < since || !(s.var_rad2 > 0.0)) continue;
+    const double r = s.angle_rad - am - b * (s.t_s - tm);
+    chi2 += r * r / s.var_rad2;
+  }
+  var_b = std::max(1.0, chi2 / (n - 2)) / stt;
+  const double sigma_b = std::sqrt(var_b), sigma_w = tr.yaw_rate_sigma();
+  return std::abs(b) <= p.straight_sigmas * sigma_b &&
+         sigma_b <= p.straight_max_sigma_ratio * sigma_w &&
+         std::abs(tr.yaw_rate() - b) <=
+             p.straight_consistency_sigmas * std::sqrt(sigma_w * sigma_w + var_b);
+}
+
 bool axis_information(Track& tr, const std::vector<std::uint32_t>& pixels, const Frame& frame, const TrackerParams& p, Mat5& info,
                       Vec5& grad) {
   tr.axis_seen = false;
@@ -105,7 +167,7 @@ bool axis_information(Track& tr, const std::vector<std::uint32_t>& pixels, const
   if (!a.informative && !face) return false;
   // The direction across the body: across the long side, or along the face.
   const Eigen::Vector2d n = face ? a.side_axis : Eigen::Vector2d(-a.axis.y(), a.axis.x());
-  const double heading_var = face ? face_heading_variance(a, tr.outline_cut, ph)
+  const double heading_var = face ? face_heading_variance(a, frame.position, tr.outline_cut, ph)
                                   : axis_heading_variance(a, frame.position, tr.outline_cut, ph);
   const double speed = tr.velocity().norm();
   // A turning car's centre moves across its axis (it turns about its rear axle); a face is as
@@ -120,6 +182,7 @@ bool axis_information(Track& tr, const std::vector<std::uint32_t>& pixels, const
   // deviations of the innovation, as the centre is.
   if (ph.gate_sigmas > 0.0 && std::abs(innovation) > ph.gate_sigmas * spread) return false;
   tr.axis_seen = true;
+  record_axis(tr, n, heading_var, p.turning);
   const double w = std::min(1.0, 3.0 * spread / std::max(std::abs(innovation), 1e-12)) / var;
   info.block<2, 2>(2, 2) += w * n * n.transpose();
   grad.segment<2>(2) += w * n * innovation;

@@ -31,6 +31,11 @@ bool settled(const Track& tr, const TrackerParams& p);
 /// the yaw rate it holds is the body's.
 bool turn_held(const Track& tr, const TrackerParams& p);
 
+/// Straight by its axes (TrackerParams::Turning::straight_window_s): the slope b of the line
+/// through the outline's axes of the last window and its variance var_b are set where there are
+/// enough of them; true where they say the body drives straight.
+bool straight_by_axes(const Track& tr, const TrackerParams::Turning& p, double& b, double& var_b);
+
 /// The outline's axis of the pixels (TrackerParams::Heading), where it is informative (or, where
 /// no long side shows, a face across the body gives it as its normal) and the track is no
 /// walker, not small and faster than a walker, as a measurement of the velocity's direction: its

@@ -159,9 +159,14 @@ bool is_face(const OutlineAxis& a, const Eigen::Vector2d& sensor, const Eigen::V
          std::abs(a.side_axis.dot(heading)) <= std::sin(p.face_max_angle_rad);
 }
 
-double face_heading_variance(const OutlineAxis& a, bool cut, const TrackerParams::Heading& p) {
+double face_heading_variance(const OutlineAxis& a, const Eigen::Vector2d& sensor, bool cut,
+                             const TrackerParams::Heading& p) {
   const double factor = cut ? p.cut_sigma_factor : 1.0;
-  return factor * factor * (p.sigma_rad * p.sigma_rad + p.face_sigma_rad * p.face_sigma_rad / a.columns);
+  const double oblique =
+      p.face_oblique_sigma_rad * std::abs(a.side_axis.dot((a.at - sensor).normalized()));
+  return factor * factor *
+             (p.sigma_rad * p.sigma_rad + p.face_sigma_rad * p.face_sigma_rad / a.columns) +
+         oblique * oblique;
 }
 
 }  // namespace fmcw::core::tracking

@@ -49,7 +49,9 @@ double axis_heading_variance(const OutlineAxis& a, const Eigen::Vector2d& sensor
 bool is_face(const OutlineAxis& a, const Eigen::Vector2d& sensor, const Eigen::Vector2d& heading,
              const TrackerParams::Heading& p);
 
-/// The variance of the heading a face measures [rad^2] (its normal's direction).
-double face_heading_variance(const OutlineAxis& a, bool cut, const TrackerParams::Heading& p);
+/// The variance of the heading a face measures [rad^2] (its normal's direction), seen from the
+/// sensor given (tracker world).
+double face_heading_variance(const OutlineAxis& a, const Eigen::Vector2d& sensor, bool cut,
+                             const TrackerParams::Heading& p);
 
 }  // namespace fmcw::core::tracking

@@ -165,12 +165,12 @@ struct TrackerParams {
 
   /// The outline's axis as a measurement of a vehicle's heading: a vehicle drives along its body
   /// axis, so the velocity across the axis of its outline (the long side of the rectangle
-  /// whose edges the footprint's near side lies on) is zero. One scan's Doppler fixes velocity and yaw rate only along a
-  /// line; with the direction of the velocity known, it fixes both. Measured where the long side
-  /// is at least min_length_m (longer than any vehicle is wide: it is the body's length) and
-  /// min_aspect times the short side (a square-ish outline says nothing). The noise of the
-  /// velocity across the axis: the speed times the heading's noise, a slip, and the lateral
-  /// velocity of the box's centre in a turn (a car turns about its rear axle: |omega| times
+  /// whose edges the footprint's near side lies on) is zero. One scan's Doppler fixes velocity and
+  /// yaw rate only along a line; with the direction of the velocity known, it fixes both. Measured
+  /// where the long side is at least min_length_m (longer than any vehicle is wide: it is the
+  /// body's length) and min_aspect times the short side (a square-ish outline says nothing). The
+  /// noise of the velocity across the axis: the speed times the heading's noise, a slip, and the
+  /// lateral velocity of the box's centre in a turn (a car turns about its rear axle: |omega| times
   /// centre_offset_fraction of its length). The heading's noise, from the axis's measured errors
   /// (docs/METHODS.md, "The outline's axis"): sigma_rad (near_sigma_rad where the range is less
   /// than near_range_lengths times the length: a long body alongside, its outline spanning a
@@ -192,7 +192,10 @@ struct TrackerParams {
   /// face_max_angle_rad of the track's velocity (a face along the body, a rider's or a van's
   /// side, lies square to it). Its heading's noise: sigma_rad and face_sigma_rad over the root
   /// of the columns the face spans (measured: docs/METHODS.md), times cut_sigma_factor where the
-  /// view or an occluder cuts the outline.
+  /// view or an occluder cuts the outline; plus face_oblique_sigma_rad times |cos| of the angle
+  /// between the face and the line of sight (a face seen obliquely brings its corner and the
+  /// start of the side into its nearest pixels, and reads turned toward the side: measured,
+  /// docs/EVALUATION.md, "A face seen obliquely").
   struct Heading {
     bool use_outline = true;            ///< false: the outline's axis is not measured
     double min_length_m = 3.0;          ///< [m]
@@ -210,6 +213,7 @@ struct TrackerParams {
     double face_sight_cosine = 0.3;
     double face_max_angle_rad = 0.35;   ///< [rad]
     double face_sigma_rad = 0.052;      ///< [rad], over the root of the face's columns
+    double face_oblique_sigma_rad = 0.2;  ///< [rad] per unit of |cos| (0: none)
   } heading;
 
   /// A track starts turning (its velocity reported at its centre with the yaw rate) when
@@ -254,6 +258,26 @@ struct TrackerParams {
     /// significance, as a settled track's is, at any age (a young car turning out of a side
     /// street, or a far track whose few columns the Doppler reads across a wide lever). 0: never.
     double max_left_in_mps = 3.0;  ///< [m/s]
+    /// Straight by its axes: where the yaw rate would be taken off (the axis measured, the box
+    /// settled or the turn held; not a yaw rate too large to leave in), the outline's axes the
+    /// track measured over the last straight_window_s (at least straight_min_axes of them,
+    /// spanning half the window) are fitted with a line, angle against time, weighted by their
+    /// variances; its slope b is a yaw rate with variance var_b (the fit's, times its reduced
+    /// chi-square where above 1). Where |b| is within straight_sigmas of var_b's standard
+    /// deviation, that deviation is at most straight_max_sigma_ratio of the filter's yaw-rate
+    /// sigma (the axes know the rate better than the filter) and the filter's yaw rate lies within
+    /// straight_consistency_sigmas of b (a turn's onset, which the window lags, is not
+    /// straight), the body drives straight: the Doppler's velocity is reported with no yaw rate
+    /// taken off, and its covariance carries (b^2 + var_b) s s^T for the yaw rate instead of the
+    /// filter's (scaled with the rest as Calibration says). A straight car's filter holds yaw
+    /// rates of up to a degree a second within its noise, and the shrinkage took a share of them
+    /// off: a few tenths of a metre per second at 30 m (docs/EVALUATION.md, "Straight by its
+    /// axes"). 0: never.
+    double straight_window_s = 2.0;  ///< [s]
+    int straight_min_axes = 10;
+    double straight_sigmas = 2.0;
+    double straight_consistency_sigmas = 1.0;
+    double straight_max_sigma_ratio = 0.5;
   } turning;
 
   /// Association of clusters to tracks.
@@ -470,6 +494,16 @@ struct Track {
   /// summed with TrackerParams::Calibration::memory.
   double corrections = 0.0;
   double expected_corrections = 0.0;
+  /// The time the track has been predicted through [s], and the outline's axes it measured
+  /// within the last TrackerParams::Turning::straight_window_s: the along-body direction,
+  /// oriented with the velocity and unwrapped, at that time, and its variance.
+  struct AxisSample {
+    double t_s = 0.0;
+    double angle_rad = 0.0;
+    double var_rad2 = 0.0;
+  };
+  double clock_s = 0.0;
+  std::vector<AxisSample> axes;
 
   Eigen::Vector2d centre() const { return x.head<2>(); }
   Eigen::Vector2d velocity() const { return x.segment<2>(2); }
