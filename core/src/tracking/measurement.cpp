@@ -115,11 +115,15 @@ void record_axis(Track& tr, const Eigen::Vector2d& n, double heading_var,
 bool straight_by_axes(const Track& tr, const TrackerParams::Turning& p, double& b, double& var_b) {
   if (!(p.straight_window_s > 0.0)) return false;
   const double since = tr.clock_s - p.straight_window_s - 1e-9;
+  // The axes of the window that carry a variance.
+  const auto counts = [since](const Track::AxisSample& s) {
+    return s.t_s >= since && s.var_rad2 > 0.0;
+  };
   // Weighted means of time and angle over the window.
   double sw = 0.0, st = 0.0, sa = 0.0, t0 = std::numeric_limits<double>::infinity(), t1 = -t0;
   int n = 0;
   for (const Track::AxisSample& s : tr.axes) {
-    if (s.t_s < since || !(s.var_rad2 > 0.0)) continue;
+    if (!counts(s)) continue;
     const double q = 1.0 / s.var_rad2;
     sw += q;
     st += q * s.t_s;
@@ -132,7 +136,7 @@ bool straight_by_axes(const Track& tr, const TrackerParams::Turning& p, double& 
   const double tm = st / sw, am = sa / sw;
   double stt = 0.0, sta = 0.0;
   for (const Track::AxisSample& s : tr.axes) {
-    if (s.t_s < since || !(s.var_rad2 > 0.0)) continue;
+    if (!counts(s)) continue;
     stt += (s.t_s - tm) * (s.t_s - tm) / s.var_rad2;
     sta += (s.t_s - tm) * (s.angle_rad - am) / s.var_rad2;
   }
@@ -140,7 +144,7 @@ bool straight_by_axes(const Track& tr, const TrackerParams::Turning& p, double& 
   b = sta / stt;
   double chi2 = 0.0;
   for (const Track::AxisSample& s : tr.axes) {
-    if (s.t_s < since || !(s.var_rad2 > 0.0)) continue;
+    if (!counts(s)) continue;
     const double r = s.angle_rad - am - b * (s.t_s - tm);
     chi2 += r * r / s.var_rad2;
   }

@@ -145,25 +145,27 @@ double axis_heading_variance(const OutlineAxis& a, const Eigen::Vector2d& sensor
   return factor * factor * (floor * floor + end * end);
 }
 
+double side_sight_cosine(const OutlineAxis& a, const Eigen::Vector2d& sensor) {
+  return std::abs(a.side_axis.dot((a.at - sensor).normalized()));
+}
+
 bool is_face(const OutlineAxis& a, const Eigen::Vector2d& sensor, const Eigen::Vector2d& heading,
              const TrackerParams::Heading& p) {
   if (!p.use_outline || p.face_min_length_m <= 0.0 || a.informative) return false;
-  const Eigen::Vector2d sight = (a.at - sensor).normalized();
   // The side the sensor sees: not long enough for a body's length, long enough for its width, a
   // line (a car's roof behind its rear, seen from above it, is no part of the face).
   const bool line = a.side_length_m >= p.face_min_length_m && a.side_length_m < p.min_length_m &&
                     a.side_length_m >= p.min_aspect * a.side_width_m &&
                     a.columns >= p.face_min_columns;
   // Square to the line of sight, and to the track's velocity.
-  return line && std::abs(a.side_axis.dot(sight)) <= p.face_sight_cosine &&
+  return line && side_sight_cosine(a, sensor) <= p.face_sight_cosine &&
          std::abs(a.side_axis.dot(heading)) <= std::sin(p.face_max_angle_rad);
 }
 
 double face_heading_variance(const OutlineAxis& a, const Eigen::Vector2d& sensor, bool cut,
                              const TrackerParams::Heading& p) {
   const double factor = cut ? p.cut_sigma_factor : 1.0;
-  const double oblique =
-      p.face_oblique_sigma_rad * std::abs(a.side_axis.dot((a.at - sensor).normalized()));
+  const double oblique = p.face_oblique_sigma_rad * side_sight_cosine(a, sensor);
   return factor * factor *
              (p.sigma_rad * p.sigma_rad + p.face_sigma_rad * p.face_sigma_rad / a.columns) +
          oblique * oblique;

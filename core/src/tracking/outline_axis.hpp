@@ -43,6 +43,10 @@ OutlineAxis outline_axis(const std::vector<std::uint32_t>& pixels, const Frame& 
 double axis_heading_variance(const OutlineAxis& a, const Eigen::Vector2d& sensor, bool cut,
                              const TrackerParams::Heading& p);
 
+/// |cos| of the angle between the side the sensor sees (OutlineAxis::side_axis) and the line of
+/// sight from the sensor (tracker world) to the outline: 0 square to it, 1 along it.
+double side_sight_cosine(const OutlineAxis& a, const Eigen::Vector2d& sensor);
+
 /// Where no long side shows, a face across the body (TrackerParams::Heading, face_*): whether
 /// the side the sensor sees (OutlineAxis::side_axis) is one, the track's velocity direction
 /// `heading` (unit) and the sensor given (tracker world).

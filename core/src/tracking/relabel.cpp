@@ -73,19 +73,17 @@ void report_track(const Frame& frame, const Track& tr, const Group& g, const Mot
     const bool too_large = max_left_in > 0.0 && std::abs(w) * s.norm() > max_left_in &&
                            std::abs(w) > p.turning.turn_significance * tr.yaw_rate_sigma();
     const bool known = tr.axis_seen || settled(tr, p) || turn_held(tr, p) || too_large;
-    double taken = known && w2 > 0.0 ? w * w * w / w2 : 0.0;
     // Unless its axes say it drives straight: then the Doppler's velocity, with the yaw rate of
-    // the axes' line and its variance in the covariance
+    // the axes' line and its variance in the covariance in place of the filter's
     // (TrackerParams::Turning::straight_window_s).
     double b = 0.0, var_b = 0.0;
-    if (known && !too_large && straight_by_axes(tr, p.turning, b, var_b)) {
-      taken = 0.0;
-      cov = J * tr.P.block<3, 3>(2, 2) * J.transpose() + (b * b + var_b) * s * s.transpose();
-    } else {
-      vel -= taken * s;
-      cov = J * tr.P.block<3, 3>(2, 2) * J.transpose() + tr.P(4, 4) * s * s.transpose();
-      left_in = (w - taken) * (w - taken) * s * s.transpose();
-    }
+    const bool straight = known && !too_large && straight_by_axes(tr, p.turning, b, var_b);
+    const double taken = !straight && known && w2 > 0.0 ? w * w * w / w2 : 0.0;
+    const double yaw_var = straight ? b * b + var_b : tr.P(4, 4);
+    const double left = straight ? 0.0 : w - taken;
+    vel -= taken * s;
+    cov = J * tr.P.block<3, 3>(2, 2) * J.transpose() + yaw_var * s * s.transpose();
+    left_in = left * left * s * s.transpose();
     ce.yaw_rate_rps = taken;
   }
   // The filter's share is scaled as its updates say; the yaw rate left in is not the filter's
