@@ -1018,6 +1018,62 @@ TEST(TrackingTurning, AStraightCarsFalseYawRateIsNotTakenOffWhereItsAxesSayStrai
   EXPECT_FALSE(straight_by_axes(tr, p.turning, b, var_b));
 }
 
+TEST(TrackingTurning, TheAxesATrackMeasuresAreKeptOrientedUnwrappedAndWithinTheWindow) {
+  // A car 20 m ahead and 6 m to the side, driving along -x at 10 m/s (heading pi), its outline's
+  // axis measured every 0.1 s for 3 s, its body turned by +-0.01 rad in turn (the outline's
+  // angle steps by 0.25 degrees): the along-body direction's raw angle flips between +pi and -pi.
+  // The track keeps each axis oriented with its velocity and unwrapped (consecutive angles about
+  // 0.02 apart, not 2 pi), at the time its predictions have reached (0.1 s each), and only
+  // those of the last 2 s (21 of 31). Their line is straight. With straight_window_s 0 none is
+  // kept.
+  const AxisCase left = render_box({20.0, 6.0}, 4.5, 1.8, M_PI - 0.01, 1.45);
+  const AxisCase right = render_box({20.0, 6.0}, 4.5, 1.8, -M_PI + 0.01, 1.45);
+  ASSERT_GT(left.pixels.size(), 20u);
+  ASSERT_GT(right.pixels.size(), 20u);
+  const ScanBeams beams_l(left.rendered.scan), beams_r(right.rendered.scan);
+  const Frame frame_l = standing_frame(left.rendered.scan, beams_l);
+  const Frame frame_r = standing_frame(right.rendered.scan, beams_r);
+  const auto measure_for = [&](const TrackerParams& p) {
+    Track tr;
+    tr.id = 1;
+    tr.hits = 10;
+    tr.length_m = 4.5;
+    tr.width_m = 1.8;
+    tr.x << 20.0, 6.0, -10.0, 0.0, 0.0;
+    tr.P = Mat5::Identity() * 0.01;
+    for (int k = 0; k <= 30; ++k) {
+      if (k > 0) predict(tr, 0.1, p.motion);
+      tr.x.head<2>() = Eigen::Vector2d(20.0, 6.0);  // the same rendered body each time
+      Mat5 info = Mat5::Zero();
+      Vec5 grad = Vec5::Zero();
+      const bool odd = k % 2 == 1;
+      EXPECT_TRUE(axis_information(tr, odd ? right.pixels : left.pixels, odd ? frame_r : frame_l, p,
+                                   info, grad));
+    }
+    return tr;
+  };
+  const TrackerParams p;
+  const Track tr = measure_for(p);
+  EXPECT_NEAR(tr.clock_s, 3.0, 1e-9);
+  ASSERT_EQ(tr.axes.size(), 21u);
+  EXPECT_NEAR(tr.axes.front().t_s, 1.0, 1e-9);
+  EXPECT_NEAR(tr.axes.back().t_s, 3.0, 1e-9);
+  for (std::size_t k = 0; k < tr.axes.size(); ++k) {
+    // Along the velocity (-x), not against it: within 0.02 rad of pi, on one branch.
+    EXPECT_NEAR(std::abs(tr.axes[k].angle_rad), M_PI, 0.02);
+    if (k > 0) {
+      EXPECT_LT(std::abs(tr.axes[k].angle_rad - tr.axes[k - 1].angle_rad), 0.05);
+    }
+    EXPECT_GT(tr.axes[k].var_rad2, 0.0);
+  }
+  double b = 1.0, var_b = 0.0;
+  EXPECT_TRUE(straight_by_axes(tr, p.turning, b, var_b));
+  EXPECT_LT(std::abs(b), 0.01);
+  TrackerParams never = p;
+  never.turning.straight_window_s = 0.0;
+  EXPECT_TRUE(measure_for(never).axes.empty());
+}
+
 // ---- Association gating -------------------------------------------------------------------
 
 // A track at (20, 0) moving at 5 m/s along x; three clusters of 10 pixels: one on it whose
