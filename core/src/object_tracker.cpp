@@ -128,6 +128,9 @@ void TrackerParams::validate() const {
   h.non_negative("near_sigma_rad", heading.near_sigma_rad);
   h.non_negative("near_range_lengths", heading.near_range_lengths);
   h.non_negative("gate_sigmas (0: never)", heading.gate_sigmas);
+  h.non_negative("reopen_sigmas (0: never)", heading.reopen_sigmas);
+  h.non_negative("reopen_window_s", heading.reopen_window_s);
+  h.at_least("reopen_support", heading.reopen_support, 1);
   h.at_least("cut_sigma_factor", heading.cut_sigma_factor, 1.0);
   h.positive("slip_sigma_mps", heading.slip_sigma_mps);
   h.non_negative("centre_offset_fraction", heading.centre_offset_fraction);

@@ -684,6 +684,18 @@ TEST(TrackingOutlineAxis, ItsHeadingIsFinerBroadsideThanEndOnAndCoarsestAlongsid
                    p.cut_sigma_factor * p.cut_sigma_factor * s_broadside * s_broadside);
 }
 
+// A track of a car 4.5 x 1.8 m at (20, 6), sure it drives along x at 8 m/s.
+Track sure_along_x() {
+  Track tr;
+  tr.id = 1;
+  tr.hits = 3;
+  tr.length_m = 4.5;
+  tr.width_m = 1.8;
+  tr.x << 20.0, 6.0, 8.0, 0.0, 0.0;
+  tr.P = Mat5::Identity() * 0.01;
+  return tr;
+}
+
 TEST(TrackingOutlineAxis, AnAxisFarOffTheTracksHeadingIsNotMeasured) {
   // A track sure it drives along x at 8 m/s; the outline it takes is a car's at 30 degrees (a
   // far car's few columns read the wrong way, or another shape): beyond gate_sigmas of the
@@ -694,14 +706,6 @@ TEST(TrackingOutlineAxis, AnAxisFarOffTheTracksHeadingIsNotMeasured) {
   const ScanBeams skew_beams(skew.rendered.scan), along_beams(along.rendered.scan);
   const Frame skew_frame = standing_frame(skew.rendered.scan, skew_beams);
   const Frame along_frame = standing_frame(along.rendered.scan, along_beams);
-  const auto sure_along_x = [] {
-    Track tr;
-    tr.length_m = 4.5;
-    tr.width_m = 1.8;
-    tr.x << 20.0, 6.0, 8.0, 0.0, 0.0;
-    tr.P = Mat5::Identity() * 0.01;
-    return tr;
-  };
   const auto measured = [](Track tr, const AxisCase& c, const Frame& frame, const TrackerParams& p) {
     Mat5 info = Mat5::Zero();
     Vec5 grad = Vec5::Zero();
@@ -715,6 +719,77 @@ TEST(TrackingOutlineAxis, AnAxisFarOffTheTracksHeadingIsNotMeasured) {
   no_gate.heading.gate_sigmas = 0.0;
   EXPECT_TRUE(measured(sure_along_x(), skew, skew_frame, no_gate));
   EXPECT_TRUE(measured(sure_along_x(), along, along_frame, TrackerParams{}));
+}
+
+TEST(TrackingOutlineAxis, AHeadingNoReadHoldsYieldsToReadsBeyondTheGateThatAgree) {
+  // A track sure it drives along x at 8 m/s (a single wrong read set its heading at birth), no
+  // axis of its window along it; the car's outline lies at 30 degrees. The first read is beyond
+  // the gate and not measured; the next, 0.1 s on, agrees with it and is, Huber-weighted; read
+  // every 0.1 s for 3.5 s (its covariance held where it was, each read moves it by at most 3
+  // standard deviations), the track's velocity turns to within 2 degrees of the outline's axis.
+  // Not with reopen_sigmas 0, nor where two axes of its window hold its heading, nor where the
+  // reads are further apart than reopen_window_s (0.05 s here), nor where the second read
+  // disagrees (-30 degrees).
+  const double skew = 30.0 * M_PI / 180.0;
+  const AxisCase up = render_box({20.0, 6.0}, 4.5, 1.8, skew);
+  const AxisCase down = render_box({20.0, 6.0}, 4.5, 1.8, -skew);
+  const AxisCase along = render_box({20.0, 6.0}, 4.5, 1.8, 0.0);
+  const ScanBeams up_beams(up.rendered.scan), down_beams(down.rendered.scan),
+      along_beams(along.rendered.scan);
+  const Frame up_frame = standing_frame(up.rendered.scan, up_beams);
+  const Frame down_frame = standing_frame(down.rendered.scan, down_beams);
+  const Frame along_frame = standing_frame(along.rendered.scan, along_beams);
+  // One read after dt s of prediction (the body where it was), measured into the state if used;
+  // the covariance held where it was (the Doppler and the centre, not measured here, keep it).
+  const auto read = [](Track& tr, const AxisCase& c, const Frame& frame, double dt,
+                       const TrackerParams& p) {
+    if (dt > 0.0) predict(tr, dt, p.motion);
+    tr.x.head<2>() = Eigen::Vector2d(20.0, 6.0);
+    tr.P = Mat5::Identity() * 0.01;
+    Mat5 info = Mat5::Zero();
+    Vec5 grad = Vec5::Zero();
+    const bool used = axis_information(tr, c.pixels, frame, p, info, grad);
+    if (used) information_update(tr, info, grad, p);
+    return used;
+  };
+  const auto heading_deg = [](const Track& tr) {
+    return std::atan2(tr.velocity().y(), tr.velocity().x()) * 180.0 / M_PI;
+  };
+  const TrackerParams p;
+  {
+    Track tr = sure_along_x();
+    EXPECT_FALSE(read(tr, up, up_frame, 0.0, p));
+    EXPECT_TRUE(read(tr, up, up_frame, 0.1, p));
+    for (int k = 2; k <= 35; ++k) read(tr, up, up_frame, 0.1, p);
+    EXPECT_NEAR(heading_deg(tr), 30.0, 2.0);
+  }
+  {
+    TrackerParams never = p;
+    never.heading.reopen_sigmas = 0.0;
+    Track tr = sure_along_x();
+    for (int k = 0; k <= 15; ++k) EXPECT_FALSE(read(tr, up, up_frame, k == 0 ? 0.0 : 0.1, never));
+    EXPECT_NEAR(heading_deg(tr), 0.0, 1.0);
+  }
+  {
+    // Two reads along x in its window hold the heading: the reads at 30 degrees stay out.
+    Track tr = sure_along_x();
+    EXPECT_TRUE(read(tr, along, along_frame, 0.0, p));
+    EXPECT_TRUE(read(tr, along, along_frame, 0.1, p));
+    ASSERT_EQ(tr.axes.size(), 2u);
+    for (int k = 0; k < 5; ++k) EXPECT_FALSE(read(tr, up, up_frame, 0.1, p));
+  }
+  {
+    TrackerParams brief = p;
+    brief.heading.reopen_window_s = 0.05;
+    Track tr = sure_along_x();
+    EXPECT_FALSE(read(tr, up, up_frame, 0.0, brief));
+    EXPECT_FALSE(read(tr, up, up_frame, 0.1, brief));
+  }
+  {
+    Track tr = sure_along_x();
+    EXPECT_FALSE(read(tr, up, up_frame, 0.0, p));
+    EXPECT_FALSE(read(tr, down, down_frame, 0.1, p));
+  }
 }
 
 // A van's height [m]: its roof lies above the rig's heads, unseen.

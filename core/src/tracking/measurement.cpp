@@ -93,14 +93,19 @@ void doppler_information(const DopplerRows& d, const Vec5& x, bool small, const 
 
 namespace {
 
-// Keeps the axis just measured (n across the body, in the tracker's world) for
-// straight_by_axes(), and drops those older than the window.
+// The along-body direction of an axis (n across the body, in the tracker's world), oriented
+// with the track's velocity [rad].
+double oriented_axis_angle(const Track& tr, const Eigen::Vector2d& n) {
+  Eigen::Vector2d along(n.y(), -n.x());
+  if (along.dot(tr.velocity()) < 0.0) along = -along;
+  return std::atan2(along.y(), along.x());
+}
+
+// Keeps the axis just measured for straight_by_axes(), and drops those older than the window.
 void record_axis(Track& tr, const Eigen::Vector2d& n, double heading_var,
                  const TrackerParams::Turning& p) {
   if (!(p.straight_window_s > 0.0)) return;
-  Eigen::Vector2d along(n.y(), -n.x());
-  if (along.dot(tr.velocity()) < 0.0) along = -along;
-  double angle = std::atan2(along.y(), along.x());
+  double angle = oriented_axis_angle(tr, n);
   if (!tr.axes.empty())
     angle += 2.0 * M_PI * std::round((tr.axes.back().angle_rad - angle) / (2.0 * M_PI));
   tr.axes.push_back({tr.clock_s, angle, heading_var});
@@ -156,6 +161,35 @@ bool straight_by_axes(const Track& tr, const TrackerParams::Turning& p, double& 
              p.straight_consistency_sigmas * std::sqrt(sigma_w * sigma_w + var_b);
 }
 
+namespace {
+
+// An axis read beyond the gate (n across the body, its heading's variance var): whether the gate
+// opens to it (TrackerParams::Heading::reopen_sigmas). It is kept as the track's last read
+// beyond the gate either way.
+bool gate_reopens(Track& tr, const Eigen::Vector2d& n, double var,
+                  const TrackerParams::Heading& ph) {
+  const Track::AxisSample before = tr.beyond_gate;
+  tr.beyond_gate = {tr.clock_s, oriented_axis_angle(tr, n), var};
+  if (!(ph.reopen_sigmas > 0.0)) return false;
+  // How far apart two directions are, the older one (dt s before now) turned on by the yaw rate.
+  const double w = tr.yaw_rate();
+  const auto apart = [w](double now, double then, double dt) {
+    return std::abs(std::remainder(now - then - w * dt, 2.0 * M_PI));
+  };
+  const double since = tr.clock_s - before.t_s;
+  if (!(since <= ph.reopen_window_s) || apart(tr.beyond_gate.angle_rad, before.angle_rad, since) >
+                                            ph.reopen_sigmas * std::sqrt(var + before.var_rad2))
+    return false;
+  const double heading = std::atan2(tr.velocity().y(), tr.velocity().x());
+  const auto holds = [&](const Track::AxisSample& s) {
+    return apart(heading, s.angle_rad, tr.clock_s - s.t_s) <=
+           ph.reopen_sigmas * std::sqrt(s.var_rad2);
+  };
+  return std::count_if(tr.axes.begin(), tr.axes.end(), holds) < ph.reopen_support;
+}
+
+}  // namespace
+
 bool axis_information(Track& tr, const std::vector<std::uint32_t>& pixels, const Frame& frame, const TrackerParams& p, Mat5& info,
                       Vec5& grad) {
   tr.axis_seen = false;
@@ -182,9 +216,12 @@ bool axis_information(Track& tr, const std::vector<std::uint32_t>& pixels, const
   const double innovation = -n.dot(tr.velocity());
   const double spread = std::sqrt(n.dot(tr.P.block<2, 2>(2, 2) * n) + var);
   // An axis this far off the track's heading is another shape's (a far car's few columns read
-  // the wrong way): not measured in this update. Within it, Huber-weighted beyond 3 standard
+  // the wrong way): not measured in this update, unless the heading is what no read holds and
+  // the reads beyond the gate agree (gate_reopens). Within it, Huber-weighted beyond 3 standard
   // deviations of the innovation, as the centre is.
-  if (ph.gate_sigmas > 0.0 && std::abs(innovation) > ph.gate_sigmas * spread) return false;
+  if (ph.gate_sigmas > 0.0 && std::abs(innovation) > ph.gate_sigmas * spread &&
+      !gate_reopens(tr, n, heading_var, ph))
+    return false;
   tr.axis_seen = true;
   record_axis(tr, n, heading_var, p.turning);
   const double w = std::min(1.0, 3.0 * spread / std::max(std::abs(innovation), 1e-12)) / var;

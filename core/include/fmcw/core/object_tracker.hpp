@@ -180,7 +180,15 @@ struct TrackerParams {
   /// about that much; seen broadside, through their ranges, far finer); all times
   /// cut_sigma_factor where the view or an occluder cuts the outline. An axis whose innovation
   /// exceeds gate_sigmas standard deviations (the track's own and the measurement's) is not
-  /// measured in that update (0: never dropped).
+  /// measured in that update (0: never dropped). Unless the heading it disagrees with is no
+  /// heading the track's reads hold: the gate opens to a read beyond it where the track's last
+  /// read beyond it, within reopen_window_s, agrees with this one within reopen_sigmas standard
+  /// deviations (the two reads' own, the track's yaw rate turning the older one on), and fewer
+  /// than reopen_support of the axes the track measured within turning.straight_window_s lie
+  /// within reopen_sigmas of their own standard deviation of its heading (turned back by its
+  /// yaw rate to when each was read). A heading a single wrong read set at birth (a far van's few
+  /// columns read 51 degrees off) then yields to the reads that agree on the body's axis
+  /// (measured: docs/EVALUATION.md, "A heading no read holds"). 0: never.
   ///
   /// A face across the body (a vehicle seen end-on shows its rear or its front, a line as long
   /// as the body is wide) gives the axis as its normal: measured where no long side shows, the
@@ -208,6 +216,9 @@ struct TrackerParams {
     double slip_sigma_mps = 0.2;        ///< [m/s]
     double centre_offset_fraction = 0.25;
     double gate_sigmas = 4.0;
+    double reopen_sigmas = 3.0;     ///< (0: never)
+    double reopen_window_s = 0.35;  ///< [s]
+    int reopen_support = 2;
     double face_min_length_m = 1.2;     ///< [m] (0: no face measured)
     int face_min_columns = 8;
     double face_sight_cosine = 0.3;
@@ -504,6 +515,9 @@ struct Track {
   };
   double clock_s = 0.0;
   std::vector<AxisSample> axes;
+  /// The last outline's axis beyond TrackerParams::Heading::gate_sigmas (oriented with the
+  /// velocity; at t_s -infinity before any).
+  AxisSample beyond_gate{-std::numeric_limits<double>::infinity(), 0.0, 0.0};
 
   Eigen::Vector2d centre() const { return x.head<2>(); }
   Eigen::Vector2d velocity() const { return x.segment<2>(2); }
