@@ -101,6 +101,12 @@ double oriented_axis_angle(const Track& tr, const Eigen::Vector2d& n) {
   return std::atan2(along.y(), along.x());
 }
 
+// The earliest time of an axis the track keeps that still lies within the window
+// (TrackerParams::Turning::straight_window_s) [s].
+double window_start(const Track& tr, const TrackerParams::Turning& p) {
+  return tr.clock_s - p.straight_window_s - 1e-9;
+}
+
 // Keeps the axis just measured for straight_by_axes(), and drops those older than the window.
 void record_axis(Track& tr, const Eigen::Vector2d& n, double heading_var,
                  const TrackerParams::Turning& p) {
@@ -109,9 +115,9 @@ void record_axis(Track& tr, const Eigen::Vector2d& n, double heading_var,
   if (!tr.axes.empty())
     angle += 2.0 * M_PI * std::round((tr.axes.back().angle_rad - angle) / (2.0 * M_PI));
   tr.axes.push_back({tr.clock_s, angle, heading_var});
-  const auto old = std::find_if(tr.axes.begin(), tr.axes.end(), [&](const Track::AxisSample& s) {
-    return s.t_s >= tr.clock_s - p.straight_window_s - 1e-9;
-  });
+  const double since = window_start(tr, p);
+  const auto old = std::find_if(tr.axes.begin(), tr.axes.end(),
+                                [since](const Track::AxisSample& s) { return s.t_s >= since; });
   tr.axes.erase(tr.axes.begin(), old);
 }
 
@@ -119,7 +125,7 @@ void record_axis(Track& tr, const Eigen::Vector2d& n, double heading_var,
 
 bool straight_by_axes(const Track& tr, const TrackerParams::Turning& p, double& b, double& var_b) {
   if (!(p.straight_window_s > 0.0)) return false;
-  const double since = tr.clock_s - p.straight_window_s - 1e-9;
+  const double since = window_start(tr, p);
   // The axes of the window that carry a variance.
   const auto counts = [since](const Track::AxisSample& s) {
     return s.t_s >= since && s.var_rad2 > 0.0;
@@ -180,6 +186,8 @@ bool gate_reopens(Track& tr, const Eigen::Vector2d& n, double var,
   if (!(since <= ph.reopen_window_s) || apart(tr.beyond_gate.angle_rad, before.angle_rad, since) >
                                             ph.reopen_sigmas * std::sqrt(var + before.var_rad2))
     return false;
+  // The axes the track keeps: those of the window before the last one it recorded (the gate
+  // records none, so a heading the track measured before a run of reads beyond it still counts).
   const double heading = std::atan2(tr.velocity().y(), tr.velocity().x());
   const auto holds = [&](const Track::AxisSample& s) {
     return apart(heading, s.angle_rad, tr.clock_s - s.t_s) <=

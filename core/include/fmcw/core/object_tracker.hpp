@@ -184,9 +184,10 @@ struct TrackerParams {
   /// heading the track's reads hold: the gate opens to a read beyond it where the track's last
   /// read beyond it, within reopen_window_s, agrees with this one within reopen_sigmas standard
   /// deviations (the two reads' own, the track's yaw rate turning the older one on), and fewer
-  /// than reopen_support of the axes the track measured within turning.straight_window_s lie
-  /// within reopen_sigmas of their own standard deviation of its heading (turned back by its
-  /// yaw rate to when each was read). A heading a single wrong read set at birth (a far van's few
+  /// than reopen_support of the axes the track keeps (those of turning.straight_window_s before
+  /// the last one it measured: a read the gate drops is not kept) lie within reopen_sigmas of
+  /// their own standard deviation of its heading (turned back by its yaw rate to when each was
+  /// read). A heading a single wrong read set at birth (a far van's few
   /// columns read 51 degrees off) then yields to the reads that agree on the body's axis
   /// (measured: docs/EVALUATION.md, "A heading no read holds"). 0: never.
   ///
