@@ -275,7 +275,11 @@ void ObjectTracker::update(const Scan& scan, const ScanBeams& beams, MotionEstim
   for (std::size_t t = measured; t < tracks_.size() && !lost_.empty(); ++t) {
     const int l = lost_track_of(frame, tracks_[t], groups[t].found, lost_, p);
     if (l < 0) continue;
-    tracks_[t].id = lost_[static_cast<std::size_t>(l)].id;
+    const Track& lost = lost_[static_cast<std::size_t>(l)];
+    tracks_[t].id = lost.id;
+    // One scan does not see a vehicle's tangential velocity; the lost track's prediction does.
+    if (p.lifecycle.reid_motion && lost.vehicle(p) && !lost.may_be_group(p) && !tracks_[t].walker)
+      fuse_motion_prior(tracks_[t], lost);
     lost_.erase(lost_.begin() + l);
   }
   // Grow into the blind band, then relabel the estimate by the tracks.

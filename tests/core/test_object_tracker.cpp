@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
-
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -410,6 +410,78 @@ TEST(ObjectTracker, AWalkerHiddenLongerThanATrackLivesComesBackUnderItsId) {
     EXPECT_GT(new_ids[static_cast<std::size_t>(k)], 0) << "frame " << k;  // tracked, under another id
     EXPECT_NE(new_ids[static_cast<std::size_t>(k)], before) << "frame " << k;
   }
+}
+
+// A car 22 m ahead crossing the view at 8 m/s (along y, from y = -14 m), behind a wall 8 m
+// wide 12 m from the rig for 1.4 s (frames 11-24): longer than its track lives. Per frame,
+// the track id of the car's cluster (0: none) and that cluster's velocity error [m/s] (NaN
+// without one).
+struct HiddenCar {
+  std::vector<std::int32_t> ids;
+  std::vector<double> errors;
+};
+HiddenCar car_behind_a_wall(const TrackerParams& tp) {
+  MotionPipelineParams params = MotionPipelineParams::preset("tracked");
+  params.tracking = tp;
+  MotionPipeline tracked(params);
+  HiddenCar out;
+  SyntheticBox wall;
+  wall.center_m = Eigen::Vector3d(12.0, 0.0, 1.5);
+  wall.half_extent_m = Eigen::Vector3d(0.3, 4.0, 1.5);
+  for (int k = 0; k < 40; ++k) {
+    const double t = k * kDt;
+    SyntheticBox car = moving_box({22.0, -14.0 + 8.0 * t, 0.8}, {2.2, 0.9, 0.8}, {0.0, 8.0, 0.0});
+    car.yaw_rad = M_PI / 2;  // its length along y
+    const Frame f = render_actors(k, {car}, 1.0, {wall});
+    const MotionEstimate e = tracked.process(f.scan, static_cast<std::uint64_t>(k));
+    const ClusterEstimate* c = actor_cluster(f, e, 1);
+    out.ids.push_back(c == nullptr ? 0 : c->track_id);
+    out.errors.push_back(c == nullptr ? std::numeric_limits<double>::quiet_NaN()
+                                      : (c->velocity.velocity_mps - car.velocity_mps).norm());
+  }
+  return out;
+}
+
+TEST(ObjectTracker, ACarHiddenLongerThanATrackLivesComesBackWithItsMotion) {
+  // Coming out from behind the wall the car shows its front corner: one scan sees the radial
+  // part of its velocity (about 2.8 of its 8 m/s), a new track knows no more. The lost track's
+  // prediction knows the rest.
+  const HiddenCar with = car_behind_a_wall(TrackerParams{});
+  TrackerParams off;
+  off.lifecycle.reid_motion = false;
+  const HiddenCar without = car_behind_a_wall(off);
+  int hidden = 0;
+  int back = -1;
+  for (int k = 11; k < 40; ++k) {
+    hidden += with.ids[static_cast<std::size_t>(k)] == 0 ? 1 : 0;
+    if (back < 0 && with.ids[static_cast<std::size_t>(k)] != 0) back = k;
+  }
+  ASSERT_GT(hidden, TrackerParams{}.lifecycle.max_misses);  // the track itself ends while hidden
+  ASSERT_GT(back, 0);
+  ASSERT_LE(back, 30);
+  const std::int32_t before = with.ids[10];
+  ASSERT_NE(before, 0);
+  for (int k = back; k < 40; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    EXPECT_EQ(with.ids[i], before) << "frame " << k;  // the same id with the motion or without it
+    EXPECT_EQ(without.ids[i], before) << "frame " << k;
+  }
+  // Its first frame back: half the error or less (measured: 2.9 m/s against 7.5); the next
+  // three within 0.5 m/s, where the new track on its own is still metres per second off.
+  const auto first = static_cast<std::size_t>(back);
+  EXPECT_LT(with.errors[first], 0.5 * without.errors[first]);
+  for (std::size_t i = first + 1; i < first + 4; ++i) {
+    EXPECT_LT(with.errors[i], 0.5) << "frame " << i;
+    EXPECT_GT(without.errors[i], 2.0) << "frame " << i;  // control: what the motion mends
+  }
+  // Nothing is worse for it afterwards.
+  double worst_with = 0.0;
+  double worst_without = 0.0;
+  for (std::size_t i = first + 1; i < 40; ++i) {
+    worst_with = std::max(worst_with, with.errors[i]);
+    worst_without = std::max(worst_without, without.errors[i]);
+  }
+  EXPECT_LE(worst_with, worst_without);
 }
 
 TEST(ObjectTracker, TwoCarsInOneClusterAreSplitAsOneScanWouldHaveSeparatedThem) {

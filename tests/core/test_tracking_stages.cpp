@@ -301,6 +301,44 @@ TEST(TrackingCtrv, AFilterTooCautiousReportsACovarianceItsErrorsFill) {
   EXPECT_NEAR(static_cast<double>(inside_scaled) / counted, 0.95, 0.01);
 }
 
+TEST(TrackingCtrv, ALostTracksMotionIsFusedAsAPriorByItsCovariance) {
+  // A new track whose scan measured its velocity along x (2 m/s, sigma 0.1) and not along y
+  // (0 +- 6 m/s), and a lost track's prediction (2, 8) m/s, sigma 1 each, yaw rate 0.3 +- 0.1
+  // rad/s against the new track's 0 +- 0.4. Independent axes: each is the inverse-variance mean.
+  Track born;
+  born.x << 20.0, 5.0, 2.0, 0.0, 0.0;
+  born.P = Mat5::Zero();
+  born.P.diagonal() << 0.49, 0.49, 0.01, 36.0, 0.16;
+  Track lost;
+  lost.x << 19.0, 4.0, 2.0, 8.0, 0.3;
+  lost.P = Mat5::Zero();
+  lost.P.diagonal() << 4.0, 4.0, 1.0, 1.0, 0.01;
+  Track t = born;
+  fuse_motion_prior(t, lost);
+  const auto mean = [](double a, double va, double b, double vb) {
+    return (a / va + b / vb) / (1.0 / va + 1.0 / vb);
+  };
+  EXPECT_EQ(t.x(0), 20.0);  // the position is the new track's
+  EXPECT_EQ(t.x(1), 5.0);
+  EXPECT_NEAR(t.x(2), 2.0, 1e-12);
+  EXPECT_NEAR(t.x(3), mean(0.0, 36.0, 8.0, 1.0), 1e-12);  // 7.78 m/s
+  EXPECT_NEAR(t.x(4), mean(0.0, 0.16, 0.3, 0.01), 1e-12);
+  EXPECT_NEAR(t.P(3, 3), 1.0 / (1.0 / 36.0 + 1.0), 1e-12);
+  EXPECT_NEAR(t.P(4, 4), 1.0 / (1.0 / 0.16 + 1.0 / 0.01), 1e-12);
+  EXPECT_EQ(t.P(0, 0), 0.49);
+  // A prior without a covariance to weigh it by changes nothing.
+  Track singular = lost;
+  singular.P.block<3, 3>(2, 2).setZero();
+  Track u = born;
+  fuse_motion_prior(u, singular);
+  EXPECT_EQ(u.x, born.x);
+  EXPECT_EQ(u.P, born.P);
+  Track nan_prior = lost;
+  nan_prior.x(3) = std::numeric_limits<double>::quiet_NaN();
+  fuse_motion_prior(u, nan_prior);
+  EXPECT_EQ(u.x, born.x);
+}
+
 // ---- The box: anchoring and view cuts -----------------------------------------------------
 
 // A car track 1.8 m wide heading along +x at 5 m/s, centre (x, 15.9), `length` long.

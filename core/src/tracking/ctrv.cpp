@@ -96,4 +96,19 @@ void information_update(Track& t, const Mat5& info, const Vec5& grad, const Trac
   t.P = 0.5 * (P_new + P_new.transpose());
 }
 
+void fuse_motion_prior(Track& t, const Track& prior) {
+  const Eigen::Matrix3d P_prior =
+      0.5 * (prior.P.block<3, 3>(2, 2) + prior.P.block<3, 3>(2, 2).transpose());
+  const Eigen::FullPivLU<Eigen::Matrix3d> lu(P_prior);
+  if (!lu.isInvertible() || !prior.x.allFinite()) return;
+  Mat5 info = Mat5::Zero();
+  info.block<3, 3>(2, 2) = lu.inverse();
+  Vec5 grad = Vec5::Zero();
+  grad.segment<3>(2) = info.block<3, 3>(2, 2) * (prior.x.segment<3>(2) - t.x.segment<3>(2));
+  const Mat5 P_new = (t.P.inverse() + info).inverse();
+  if (!P_new.allFinite()) return;
+  t.x += P_new * grad;
+  t.P = 0.5 * (P_new + P_new.transpose());
+}
+
 }  // namespace fmcw::core::tracking

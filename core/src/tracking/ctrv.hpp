@@ -29,6 +29,12 @@ void follow_corrections(Track& t, double correction, double expected, const Trac
 /// scale (adapt_noise).
 void information_update(Track& t, const Mat5& info, const Vec5& grad, const TrackerParams& p);
 
+/// Another track's velocity and yaw rate, with their covariance, as a measurement of the
+/// track's (information form; the position stays the track's own): a lost vehicle's predicted
+/// motion for the track that takes its id (TrackerParams::Lifecycle::reid_motion). Nothing when
+/// that covariance is singular or the result not finite.
+void fuse_motion_prior(Track& t, const Track& prior);
+
 /// The Doppler row's Jacobian with respect to the state at x.
 inline Vec5 row_jacobian(const Row& r, const Vec5& x) {
   const Eigen::Vector2d d = r.o - x.head<2>();

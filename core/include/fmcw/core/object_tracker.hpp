@@ -380,10 +380,16 @@ struct TrackerParams {
     /// A confirmed track missed for more than max_misses frames is remembered, its motion
     /// predicted on, for this many frames more: a track born where the association would have
     /// given it the cluster (its predicted box grown by the gate, at most 3 gate_m, the
-    /// cluster's Doppler explained by its motion) takes its id. A walker or a cyclist hidden behind a crossing van for longer
-    /// than max_misses comes back as the object it was. Only the id: the new track's state is
-    /// its own. 0: never.
+    /// cluster's Doppler explained by its motion) takes its id. A walker or a cyclist hidden behind
+    /// a crossing van for longer than max_misses comes back as the object it was. The new track's
+    /// state is its own but for reid_motion. 0: never.
     int reid_frames = 15;
+    /// A lost track that is a vehicle's (Track::vehicle, and not maybe a group of walkers)
+    /// gives the track that takes its id its predicted velocity and yaw rate too, with their
+    /// covariance, as a prior fused into the new track's (information form): one scan sees
+    /// only the radial part of a vehicle's velocity, and the new track's first frames would
+    /// be as far off as a newborn's (a van seen again after six frames unseen: 10.5 m/s off).
+    bool reid_motion = true;
     double carry_min_speed_mps = 0.8;  ///< a confirmed track carries "moving" while faster than this [m/s]
     int release_slow_frames = 3;       ///< ... and stops after this many frames below it
     double max_gap_s = 0.5;            ///< frames further apart (or going back in time) reset the tracker [s]
