@@ -278,7 +278,7 @@ void ObjectTracker::update(const Scan& scan, const ScanBeams& beams, MotionEstim
     const Track& lost = lost_[static_cast<std::size_t>(l)];
     tracks_[t].id = lost.id;
     // One scan does not see a vehicle's tangential velocity; the lost track's prediction does.
-    if (p.lifecycle.reid_motion && lost.vehicle(p) && !lost.may_be_group(p) && !tracks_[t].walker)
+    if (p.lifecycle.reid_motion && lost.vehicle(p) && !lost.may_be_group(p))
       fuse_motion_prior(tracks_[t], lost);
     lost_.erase(lost_.begin() + l);
   }

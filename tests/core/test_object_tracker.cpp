@@ -171,15 +171,20 @@ TEST(ObjectTracker, CarriesMovingThroughTheBlindBand) {
 // starts at (30, -15) heading +x.
 constexpr double kCircleRadius = 15.0;
 constexpr double kCircleOmega = 0.4;
-SyntheticBox circling_car(double t) {
-  const double th = -M_PI / 2 + kCircleOmega * t;
+// A car 4.4 m long on a circle of radius r about (cx, 0) at yaw rate w, at time t: it starts
+// at (cx, -r) heading +x.
+SyntheticBox car_on_a_circle(double cx, double r, double w, double t) {
+  const double th = -M_PI / 2 + w * t;
   SyntheticBox b;
-  b.center_m = Eigen::Vector3d(30.0 + kCircleRadius * std::cos(th), kCircleRadius * std::sin(th), 0.8);
+  b.center_m = Eigen::Vector3d(cx + r * std::cos(th), r * std::sin(th), 0.8);
   b.half_extent_m = Eigen::Vector3d(2.2, 0.9, 0.8);
   b.yaw_rad = th + M_PI / 2;
-  b.velocity_mps = Eigen::Vector3d(-kCircleRadius * kCircleOmega * std::sin(th), kCircleRadius * kCircleOmega * std::cos(th), 0.0);
-  b.yaw_rate_rps = kCircleOmega;
+  b.velocity_mps = Eigen::Vector3d(-r * w * std::sin(th), r * w * std::cos(th), 0.0);
+  b.yaw_rate_rps = w;
   return b;
+}
+SyntheticBox circling_car(double t) {
+  return car_on_a_circle(30.0, kCircleRadius, kCircleOmega, t);
 }
 
 TEST(ObjectTracker, EstimatesTheYawRateAndTheVelocityAtTheCentreOfATurningCar) {
@@ -510,16 +515,7 @@ HiddenCar car_turning_behind_a_wall(const TrackerParams& tp) {
   SyntheticBox wall;
   wall.center_m = Eigen::Vector3d(14.0, 0.0, 1.5);
   wall.half_extent_m = Eigen::Vector3d(0.3, 2.5, 1.5);
-  const auto car_at = [](double t) {
-    const double r = 10.0, w = 0.5, th = -M_PI / 2 + w * t;
-    SyntheticBox car;
-    car.center_m = Eigen::Vector3d(20.0 + r * std::cos(th), r * std::sin(th), 0.8);
-    car.half_extent_m = Eigen::Vector3d(2.2, 0.9, 0.8);
-    car.yaw_rad = th + M_PI / 2;
-    car.velocity_mps = Eigen::Vector3d(-r * w * std::sin(th), r * w * std::cos(th), 0.0);
-    car.yaw_rate_rps = w;
-    return car;
-  };
+  const auto car_at = [](double t) { return car_on_a_circle(20.0, 10.0, 0.5, t); };
   return car_behind_a_wall(tp, car_at, wall, 60);
 }
 
