@@ -109,6 +109,7 @@ void validate_filter(const TrackerParams& p) {
   tu.non_negative("release_hold_updates", p.turning.release_hold_updates);
   tu.non_negative("hold_rate_fraction (0: never)", p.turning.hold_rate_fraction);
   tu.non_negative("max_left_in_mps (0: never)", p.turning.max_left_in_mps);
+  tu.non_negative("max_left_in_significance", p.turning.max_left_in_significance);
   tu.non_negative("straight_window_s (0: never)", p.turning.straight_window_s);
   tu.at_least("straight_min_axes", p.turning.straight_min_axes, 3);
   tu.positive("straight_sigmas", p.turning.straight_sigmas);

@@ -71,7 +71,7 @@ void report_track(const Frame& frame, const Track& tr, const Group& g, const Mot
     // enough, and a velocity off by metres per second if it were left in.
     const double max_left_in = p.turning.max_left_in_mps;
     const bool too_large = max_left_in > 0.0 && std::abs(w) * s.norm() > max_left_in &&
-                           std::abs(w) > p.turning.turn_significance * tr.yaw_rate_sigma();
+                           std::abs(w) > p.turning.max_left_in_significance * tr.yaw_rate_sigma();
     const bool known = tr.axis_seen || settled(tr, p) || turn_held(tr, p) || too_large;
     // Unless its axes say it drives straight: then the Doppler's velocity, with the yaw rate of
     // the axes' line and its variance in the covariance in place of the filter's

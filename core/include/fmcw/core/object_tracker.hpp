@@ -266,10 +266,14 @@ struct TrackerParams {
     double hold_rate_fraction = 0.8;
     /// A yaw rate too large to leave in: where the yaw rate of a track that is not small, left
     /// in, would move the velocity reported by more than max_left_in_mps (|omega| |o - c|) and
-    /// stands turn_significance standard deviations from zero, it is taken off shrunk by its
-    /// significance, as a settled track's is, at any age (a young car turning out of a side
-    /// street, or a far track whose few columns the Doppler reads across a wide lever). 0: never.
+    /// stands max_left_in_significance standard deviations from zero, it is taken off shrunk by
+    /// its significance, as a settled track's is, at any age (a young car turning out of a side
+    /// street, or a far track whose few columns the Doppler reads across a wide lever). Below
+    /// turn_significance: the shrinking already takes little of a rate within its noise, and a
+    /// rate one or two standard deviations from zero, left in across a lever of 50 m, puts
+    /// metres per second into the velocity. 0 (max_left_in_mps): never.
     double max_left_in_mps = 3.0;  ///< [m/s]
+    double max_left_in_significance = 1.0;
     /// Straight by its axes: where the yaw rate would be taken off (the axis measured, the box
     /// settled or the turn held; not a yaw rate too large to leave in), the outline's axes the
     /// track measured over the last straight_window_s (at least straight_min_axes of them,
