@@ -1060,6 +1060,46 @@ TEST(TrackingTurning, AHeldTurnIsTakenOffTheReportedVelocity) {
   EXPECT_LT(e.dot(a.velocity.covariance.topLeftCorner<2, 2>().ldlt().solve(e)), 5.991);
 }
 
+TEST(TrackingTurning, ATrackCoastingOverAClusterReportsTheDopplerAtThePixelsItLabels) {
+  // A car 20 m ahead of a rig 155 m from the tracker's world origin, its track young (two
+  // updates: its yaw rate of 0.1 rad/s neither resolved nor too large to leave in), reports the
+  // velocity the Doppler measures, v + w z x (o - c). This frame it measured none of its pixels:
+  // its one cluster was only absorbed (a track coasting over what it could not explain). o is
+  // then the beam origin of the pixels it labels, so the report is the velocity whose Doppler
+  // those pixels show; from the world's origin it would be w |c| = 15 m/s across.
+  const Eigen::Vector2d centre(20.0, -3.0), rig(150.0, 40.0);
+  const double yaw = 0.3, w = 0.1;
+  const AxisCase c = render_box(centre, 4.5, 1.8, yaw);
+  ASSERT_GT(c.pixels.size(), 20u);
+  const ScanBeams beams(c.rendered.scan);
+  Frame frame = standing_frame(c.rendered.scan, beams);
+  frame.position = rig;
+  const Eigen::Vector2d v = 10.0 * Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
+  Track tr;
+  tr.id = 1;
+  tr.hits = 2;
+  tr.length_m = 4.5;
+  tr.width_m = 1.8;
+  tr.x << rig + centre, v, w;
+  tr.P = Mat5::Identity() * 0.01;
+  const TrackerParams p;
+  Group g;
+  g.absorbed = {1};
+  ASSERT_TRUE(g.empty());
+  const ClusterEstimate a = report_one(c, frame, tr, g, p);
+  EXPECT_EQ(a.yaw_rate_rps, 0.0);  // left in
+  const Eigen::Vector2d vel = a.velocity.velocity_mps.head<2>();
+  // Each pixel's Doppler, as the track's state predicts it, is what the reported velocity shows.
+  double worst = 0.0;
+  for (const std::uint32_t i : c.pixels) {
+    const Row r = frame.row_of(i);
+    worst = std::max(worst, std::abs(predicted(r, tr.x) - r.e.dot(vel)));
+  }
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_GT((vel - v).norm(), 1.5);  // w |o - c|, about 2 m/s: the rate left in
+  EXPECT_LT((vel - v).norm(), 2.5);
+}
+
 TEST(TrackingTurning, AStraightCarsFalseYawRateIsNotTakenOffWhereItsAxesSayStraight) {
   // A car 30 m ahead, driving straight along x at 15 m/s, its axis measured. Its filter holds a
   // false yaw rate of 0.015 rad/s (0.9 of its 0.017 rad/s sigma), and a centre velocity off by

@@ -26,8 +26,11 @@ namespace {
 // field), and each rad/s of it moves the centre's velocity by |o - c| m/s. Unless the turn is
 // resolved (Track::turning), report the velocity the Doppler measures, v + omega z x (o - c),
 // with no turn. A small object's Doppler pins only its radial velocity, the same for v and for
-// v + omega z x (o - c): the track's own velocity is the better guess either way.
-void report_track(const Frame& frame, const Track& tr, const Group& g, const MotionEstimate& est, const TrackerParams& p,
+// v + omega z x (o - c): the track's own velocity is the better guess either way. o: the mean
+// beam origin of the pixels the track measured this frame; of those it reports (reported_origin)
+// where it measured none (its clusters only absorbed: a track coasting over them).
+void report_track(const Frame& frame, const Track& tr, const Group& g, const MotionEstimate& est,
+                  const TrackerParams& p, const Eigen::Vector2d& reported_origin,
                   ClusterEstimate& ce) {
   const Eigen::Matrix2d Rt = frame.R.transpose();
   const VelocityEstimate scan_estimate =
@@ -43,7 +46,7 @@ void report_track(const Frame& frame, const Track& tr, const Group& g, const Mot
   ce.centre_m.z() = 0.5 * (tr.z_min_m + tr.z_max_m);
   VelocityEstimate& v = ce.velocity;
   v = scan_estimate;
-  const Eigen::Vector2d d = mean_origin(frame, g) - tr.centre();
+  const Eigen::Vector2d d = (g.empty() ? reported_origin : mean_origin(frame, g)) - tr.centre();
   Eigen::Matrix<double, 2, 3> J;
   J << 1.0, 0.0, -d.y(), 0.0, 1.0, d.x();
   Eigen::Vector2d vel = tr.velocity();
@@ -137,9 +140,11 @@ void relabel_estimate(const Frame& frame, const std::vector<Track>& tracks, cons
   const auto next = static_cast<std::int32_t>(key_of_new.size()) - 1;
   std::vector<ClusterEstimate> out(static_cast<std::size_t>(next));
   std::vector<int> count(static_cast<std::size_t>(next), 0);
+  std::vector<Eigen::Vector2d> origin(static_cast<std::size_t>(next), Eigen::Vector2d::Zero());
   for (const std::uint32_t i : object_pixels) {
     const std::int32_t l = est.labels[i];
     out[static_cast<std::size_t>(l - 1)].centroid_m += frame.scan.position(i);
+    origin[static_cast<std::size_t>(l - 1)] += frame.world_xy(frame.beams.origin_of(i));
     ++count[static_cast<std::size_t>(l - 1)];
   }
   for (std::int32_t l = 1; l <= next; ++l) {
@@ -154,7 +159,9 @@ void relabel_estimate(const Frame& frame, const std::vector<Track>& tracks, cons
       ce.scan_velocity_mps = old.velocity.velocity_mps;
       continue;
     }
-    report_track(frame, tracks[static_cast<std::size_t>(key)], groups[static_cast<std::size_t>(key)], est, p, ce);
+    report_track(frame, tracks[static_cast<std::size_t>(key)],
+                 groups[static_cast<std::size_t>(key)], est, p,
+                 origin[static_cast<std::size_t>(l - 1)] / static_cast<double>(ce.num_pixels), ce);
   }
   est.clusters = std::move(out);
 }
