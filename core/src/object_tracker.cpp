@@ -152,6 +152,8 @@ void TrackerParams::validate() const {
                  "tracking.association.min_far_cluster_pixels must be <= min_cluster_pixels (",
                  association.min_cluster_pixels, "), got ", association.min_far_cluster_pixels);
   a.positive("doppler_tolerance_mps", association.doppler_tolerance_mps);
+  a.non_negative("coasting_doppler_sigmas (0: the tolerance alone)",
+                 association.coasting_doppler_sigmas);
   a.positive("vehicle_length_m", association.vehicle_length_m);
   a.non_negative("absorb_max_pixels", association.absorb_max_pixels);
   a.positive("split_min_share (above 1: never split)", association.split_min_share);

@@ -1283,6 +1283,56 @@ TEST(TrackingAssociation, GatesByBoxAndDoppler) {
   EXPECT_EQ(groups[0].absorbed, std::vector<std::int32_t>{2});
 }
 
+// A confirmed track of the given box that was at (18.5, 0), moving at 5 m/s along x, predicted
+// over three frames it missed (0.1 s each) to (20, 0), and a cluster of 10 pixels on its box whose
+// Doppler is off its motion by `off` (the object slowed while unseen). Whether the cluster joins
+// the track, with the track's misses as given; sigma: the predicted Doppler's standard deviation
+// at the cluster's middle pixel.
+bool coasting_track_takes(double off, int misses, double length_m, const TrackerParams& p,
+                          double* sigma = nullptr) {
+  HandScan h;
+  MotionEstimate est;
+  est.labels.assign(h.scan.size(), 0);
+  add_row_cluster(h, est, 0, {19.5, 0.0}, off);
+  const ScanBeams beams(h.scan);
+  const Frame frame = standing_frame(h.scan, beams);
+  Track tr = track_at_20(length_m, 1.8);
+  tr.x(0) = 18.5;
+  for (int k = 0; k < 3; ++k) predict(tr, 0.1, p.motion);
+  tr.hits = 10;
+  tr.confirmed = true;
+  tr.misses = misses;
+  const auto cluster_pixels = pixels_of_clusters(est);
+  if (sigma != nullptr) {
+    const Vec5 j = row_jacobian(frame.row_of(cluster_pixels[0][5]), tr.x);
+    *sigma = std::sqrt(j.dot(tr.P * j));
+  }
+  const std::vector<Track> tracks{tr};
+  const std::vector<Box> boxes{box_of(tr)};
+  std::vector<Group> groups(1);
+  return associate(frame, cluster_pixels, est, tracks, boxes, p, groups).owner[0] == 0;
+}
+
+TEST(TrackingAssociation, AVehicleCoastingTakesItsClusterWithinItsPredictedDopplersSpread) {
+  // Three frames unseen, the track's velocity is known to about 0.4 m/s (2.5 m/s^2 of
+  // acceleration noise): a cluster 1.2 m/s off its Doppler is within three of its standard
+  // deviations and the tolerance (0.6 m/s), in quadrature; 3 m/s off is not.
+  const TrackerParams p;
+  double sigma = 0.0;
+  ASSERT_TRUE(coasting_track_takes(-1.2, 3, 4.5, p, &sigma));
+  EXPECT_GT(std::hypot(p.association.doppler_tolerance_mps, 3.0 * sigma), 1.2);
+  EXPECT_LT(std::hypot(p.association.doppler_tolerance_mps, 3.0 * sigma), 3.0);
+  EXPECT_FALSE(coasting_track_takes(-3.0, 3, 4.5, p));
+  // Measured last frame, the tolerance alone: 1.2 m/s off is not its Doppler.
+  EXPECT_FALSE(coasting_track_takes(-1.2, 0, 4.5, p));
+  EXPECT_TRUE(coasting_track_takes(-0.5, 0, 4.5, p));
+  // Nor for a track shorter than a vehicle (walkers side by side), nor without the rule.
+  EXPECT_FALSE(coasting_track_takes(-1.2, 3, 1.0, p));
+  TrackerParams off = p;
+  off.association.coasting_doppler_sigmas = 0.0;
+  EXPECT_FALSE(coasting_track_takes(-1.2, 3, 4.5, off));
+}
+
 // A track at (20, 0) moving at 5 m/s along x, its box 2.8 x 0.7 m (shorter than a vehicle's),
 // and two clusters that move with it: one on its box, one 1.6 m beyond its front (the part of a
 // bus alongside that the next head shows). Returns the clusters that join the track.

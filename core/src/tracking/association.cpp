@@ -5,9 +5,10 @@
 #include <cmath>
 #include <limits>
 
+#include "../pixel_lists.hpp"
+#include "ctrv.hpp"
 #include "fmcw/core/median.hpp"
 #include "fmcw/core/velocity_lsq.hpp"
-#include "../pixel_lists.hpp"
 
 namespace fmcw::core::tracking {
 
@@ -354,6 +355,20 @@ bool reaches_unseen_part(const Track& t, const TrackerParams& p) {
          t.velocity().norm() > p.small.walker_max_speed_mps;
 }
 
+// explains_doppler, but for a vehicle's track that missed its last update: within the
+// tolerance and association.coasting_doppler_sigmas standard deviations of the Doppler its
+// predicted state gives at the cluster's middle pixel, added in quadrature.
+bool explains_doppler_in_gate(const Frame& frame, const std::vector<std::uint32_t>& px,
+                              const Track& track, const TrackerParams& p) {
+  const double k = p.association.coasting_doppler_sigmas;
+  if (track.misses == 0 || !(k > 0.0) || !track.vehicle(p) || px.empty())
+    return explains_doppler(frame, px, track, p);
+  const Vec5 h = row_jacobian(frame.row_of(px[px.size() / 2]), track.x);
+  const double sigma = std::sqrt(std::max(0.0, h.dot(track.P * h)));
+  return doppler_deviation(frame, px, track) <=
+         std::hypot(p.association.doppler_tolerance_mps, k * sigma);
+}
+
 // Per cluster: the track it joins and the one it would be absorbed into.
 void gate_clusters(const Frame& frame, const std::vector<std::vector<std::uint32_t>>& cluster_pixels,
                    const std::vector<Eigen::Vector2d>& centroid, const std::vector<Track>& tracks,
@@ -372,13 +387,14 @@ void gate_clusters(const Frame& frame, const std::vector<std::vector<std::uint32
       // A large cluster beside a small track (a car passing a walker) is nearer the walker's
       // centre than its own box's: the box distance decides, the centre only breaks ties.
       const double d = boxes[t].distance(centroid[c]) + 1e-3 * (centroid[c] - boxes[t].centre).norm();
-      if (explains_doppler(frame, cluster_pixels[c], tracks[t], p)) {
+      if (explains_doppler_in_gate(frame, cluster_pixels[c], tracks[t], p)) {
         if (d < best) {
           best = d;
           a.owner[c] = static_cast<int>(t);
         }
-      } else if (static_cast<int>(cluster_pixels[c].size()) <= pa.absorb_max_pixels && tracks[t].vehicle(p) &&
-                 boxes[t].contains(centroid[c], p.claims.claim_margin_m) && d < best_absorb) {
+      } else if (static_cast<int>(cluster_pixels[c].size()) <= pa.absorb_max_pixels &&
+                 tracks[t].vehicle(p) && boxes[t].contains(centroid[c], p.claims.claim_margin_m) &&
+                 d < best_absorb) {
         best_absorb = d;
         a.absorbed[c] = static_cast<int>(t);
       }

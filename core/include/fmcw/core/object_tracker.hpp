@@ -312,6 +312,12 @@ struct TrackerParams {
     /// A cluster joins a track only when the track's predicted motion explains its Doppler to
     /// within this (median over its pixels) [m/s].
     double doppler_tolerance_mps = 0.6;
+    /// A vehicle's track that missed its last update (coasting through an occlusion) predicts
+    /// the Doppler less well than the tolerance assumes: a truck braking behind a bus for three
+    /// frames comes back a metre per second slower. Its cluster joins it within the tolerance
+    /// and this many standard deviations of the Doppler its predicted state gives at the
+    /// cluster's middle pixel, added in quadrature. 0: the tolerance alone.
+    double coasting_doppler_sigmas = 3.0;
     /// Tracks at least this long are vehicles: a second cluster joins one up to the gate from
     /// its box (its far end may not have been seen yet), and small clusters inside its box whose
     /// Doppler it does not explain (wheels) take its label without being measured [m].
