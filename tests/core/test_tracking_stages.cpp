@@ -1333,6 +1333,52 @@ TEST(TrackingAssociation, AVehicleCoastingTakesItsClusterWithinItsPredictedDoppl
   EXPECT_FALSE(coasting_track_takes(-1.2, 3, 4.5, off));
 }
 
+// A truck 9 m long seen whole as one cluster moving at 5 m/s along x: 20 pixels over its rear
+// 4.6 m (15.7 to 20.3) and 5 over its front (20.9 to 24.1), their centroid at 18.9. Two vehicles'
+// tracks explain its Doppler and hold the centroid in their boxes: one born on the whole truck
+// (9 x 2.5 m, centred at 20) and one born on its rear (5 x 2.4 m, centred at 18, nearer the
+// centroid). Returns the track the cluster joins: 0 the whole truck's, 1 the rear's.
+int truck_cluster_joins(const TrackerParams& p) {
+  HandScan h;
+  MotionEstimate est;
+  est.labels.assign(h.scan.size(), 0);
+  ClusterEstimate ce;
+  ce.id = 1;
+  const auto add = [&](int row, int col, double x) {
+    const Eigen::Vector3d q(x, 0.3, 0.5);
+    h.set(row, col, q, 5.0 * q.normalized().x());
+    est.labels[h.scan.index(row, col)] = 1;
+    ce.centroid_m += q;
+    ++ce.num_pixels;
+  };
+  for (int n = 0; n < 20; ++n) add(0, n, 15.7 + 0.24 * n);
+  for (int n = 0; n < 5; ++n) add(1, n, 20.9 + 0.8 * n);
+  ce.centroid_m /= static_cast<double>(ce.num_pixels);
+  est.clusters.push_back(ce);
+  const ScanBeams beams(h.scan);
+  const Frame frame = standing_frame(h.scan, beams);
+  Track whole = track_at_20(9.0, 2.5), rear = track_at_20(5.0, 2.4);
+  rear.x(0) = 18.0;
+  for (Track* t : {&whole, &rear}) {
+    t->hits = 2;
+    t->last_pixels = 25;
+  }
+  const std::vector<Track> tracks{whole, rear};
+  const std::vector<Box> boxes{box_of(whole), box_of(rear)};
+  std::vector<Group> groups(2);
+  return associate(frame, pixels_of_clusters(est), est, tracks, boxes, p, groups).owner[0];
+}
+
+TEST(TrackingAssociation, AClusterInsideTwoVehiclesBoxesJoinsTheBoxHoldingMostOfIt) {
+  // The whole truck's box holds all 25 pixels, the rear's the 20 of the rear (and none of the
+  // front, 0.4 m and more beyond it): the whole truck's track takes the cluster, though the
+  // rear's centre is nearer its centroid (0.9 m against 1.1).
+  TrackerParams p;
+  EXPECT_EQ(truck_cluster_joins(p), 0);
+  p.association.most_held_vehicle = false;
+  EXPECT_EQ(truck_cluster_joins(p), 1);  // the nearest centre
+}
+
 // A track at (20, 0) moving at 5 m/s along x, its box 2.8 x 0.7 m (shorter than a vehicle's),
 // and two clusters that move with it: one on its box, one 1.6 m beyond its front (the part of a
 // bus alongside that the next head shows). Returns the clusters that join the track.

@@ -95,6 +95,41 @@ bool explains_doppler_in_gate(const Frame& frame, const std::vector<std::uint32_
          std::hypot(p.association.doppler_tolerance_mps, k * sigma);
 }
 
+// Of the vehicles' tracks whose boxes hold cluster c's centroid and whose motion explains its
+// Doppler, the one whose box holds the most of its pixels (Association::most_held_vehicle); the
+// owner found by box distance where it is no vehicle, or the only one.
+int most_held_vehicle(const Frame& frame, const std::vector<std::uint32_t>& px,
+                      const Eigen::Vector2d& centroid, int owner, const std::vector<Track>& tracks,
+                      const std::vector<Box>& boxes, const TrackerParams& p) {
+  const auto inside_vehicle = [&](std::size_t t) {
+    return tracks[t].vehicle(p) && boxes[t].distance(centroid) == 0.0;
+  };
+  if (owner < 0 || !inside_vehicle(static_cast<std::size_t>(owner))) return owner;
+  std::vector<Eigen::Vector2d> q;
+  const auto held = [&](std::size_t t) {
+    int n = 0;
+    for (const Eigen::Vector2d& x : q) n += boxes[t].contains(x, p.claims.claim_margin_m) ? 1 : 0;
+    return n;
+  };
+  int most = -1;
+  for (std::size_t t = 0; t < tracks.size(); ++t) {
+    if (static_cast<int>(t) == owner || !inside_vehicle(t) ||
+        !explains_doppler_in_gate(frame, px, tracks[t], p))
+      continue;
+    if (q.empty()) {
+      q.reserve(px.size());
+      for (const std::uint32_t i : px) q.push_back(frame.world_xy(frame.scan.position(i)));
+      most = held(static_cast<std::size_t>(owner));
+    }
+    const int n = held(t);
+    if (n > most) {
+      most = n;
+      owner = static_cast<int>(t);
+    }
+  }
+  return owner;
+}
+
 // Per cluster: the track it joins and the one it would be absorbed into.
 void gate_clusters(const Frame& frame, const std::vector<std::vector<std::uint32_t>>& cluster_pixels,
                    const std::vector<Eigen::Vector2d>& centroid, const std::vector<Track>& tracks,
@@ -125,6 +160,9 @@ void gate_clusters(const Frame& frame, const std::vector<std::vector<std::uint32
         a.absorbed[c] = static_cast<int>(t);
       }
     }
+    if (pa.most_held_vehicle)
+      a.owner[c] =
+          most_held_vehicle(frame, cluster_pixels[c], centroid[c], a.owner[c], tracks, boxes, p);
     if (a.owner[c] >= 0) a.absorbed[c] = -1;
   }
 }

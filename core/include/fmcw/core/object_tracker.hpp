@@ -327,6 +327,12 @@ struct TrackerParams {
     /// has not been seen (a bus alongside fills one head, its front shows in the next).
     bool cut_box_reach = true;
     int absorb_max_pixels = 60;  ///< size bound of such a wheel cluster [pixels]
+    /// A cluster whose centroid lies inside the boxes of two or more vehicles' tracks that
+    /// explain its Doppler joins the one whose box (grown by claims.claim_margin_m) holds the
+    /// most of its pixels, not the one whose centre is nearest: a track born on a piece of a
+    /// truck beside the one born on the whole truck took the whole truck's cluster once its
+    /// pieces joined, its box half the truck's, and the whole truck's track ended.
+    bool most_held_vehicle = true;
     /// A cluster is split between two or more tracks when each one's predicted box holds at
     /// least this share of the pixels that track had last frame, and at least min_pixels_at its
     /// range (two cars nose to tail at one speed make one cluster; so do a far car and a
