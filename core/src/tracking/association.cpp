@@ -95,32 +95,27 @@ bool explains_doppler_in_gate(const Frame& frame, const std::vector<std::uint32_
          std::hypot(p.association.doppler_tolerance_mps, k * sigma);
 }
 
-// Of the vehicles' tracks whose boxes hold cluster c's centroid and whose motion explains its
-// Doppler, the one whose box holds the most of its pixels (Association::most_held_vehicle); the
-// owner found by box distance where it is no vehicle, or the only one.
-int most_held_vehicle(const Frame& frame, const std::vector<std::uint32_t>& px,
-                      const Eigen::Vector2d& centroid, int owner, const std::vector<Track>& tracks,
-                      const std::vector<Box>& boxes, const TrackerParams& p) {
-  const auto inside_vehicle = [&](std::size_t t) {
-    return tracks[t].vehicle(p) && boxes[t].distance(centroid) == 0.0;
-  };
-  if (owner < 0 || !inside_vehicle(static_cast<std::size_t>(owner))) return owner;
+// Of the vehicles' tracks `inside` (their boxes hold the cluster's centroid, their motion
+// explains its Doppler; in track order), the one whose box (grown by claims.claim_margin_m)
+// holds the most of the cluster's pixels (Association::most_held_vehicle); the owner found by
+// box distance where it is not among them, or the only one, or holds as many.
+int most_held_vehicle(const Frame& frame, const std::vector<std::uint32_t>& px, int owner,
+                      const std::vector<std::size_t>& inside, const std::vector<Box>& boxes,
+                      const TrackerParams& p) {
+  if (inside.size() < 2 ||
+      std::find(inside.begin(), inside.end(), static_cast<std::size_t>(owner)) == inside.end())
+    return owner;
   std::vector<Eigen::Vector2d> q;
+  q.reserve(px.size());
+  for (const std::uint32_t i : px) q.push_back(frame.world_xy(frame.scan.position(i)));
   const auto held = [&](std::size_t t) {
     int n = 0;
     for (const Eigen::Vector2d& x : q) n += boxes[t].contains(x, p.claims.claim_margin_m) ? 1 : 0;
     return n;
   };
-  int most = -1;
-  for (std::size_t t = 0; t < tracks.size(); ++t) {
-    if (static_cast<int>(t) == owner || !inside_vehicle(t) ||
-        !explains_doppler_in_gate(frame, px, tracks[t], p))
-      continue;
-    if (q.empty()) {
-      q.reserve(px.size());
-      for (const std::uint32_t i : px) q.push_back(frame.world_xy(frame.scan.position(i)));
-      most = held(static_cast<std::size_t>(owner));
-    }
+  int most = held(static_cast<std::size_t>(owner));
+  for (const std::size_t t : inside) {
+    if (static_cast<int>(t) == owner) continue;
     const int n = held(t);
     if (n > most) {
       most = n;
@@ -135,6 +130,8 @@ void gate_clusters(const Frame& frame, const std::vector<std::vector<std::uint32
                    const std::vector<Eigen::Vector2d>& centroid, const std::vector<Track>& tracks,
                    const std::vector<Box>& boxes, const TrackerParams& p, Association& a) {
   const TrackerParams::Association& pa = p.association;
+  // Per cluster, the vehicles whose boxes hold its centroid and whose motion explains its Doppler.
+  std::vector<std::size_t> inside;
   for (std::size_t c = 0; c < centroid.size(); ++c) {
     if (static_cast<int>(cluster_pixels[c].size()) < pa.min_pixels_at((centroid[c] - frame.position).norm())) {
       // Too few pixels to measure anything: a crumb of a tracked object goes under its label.
@@ -143,12 +140,14 @@ void gate_clusters(const Frame& frame, const std::vector<std::vector<std::uint32
     }
     double best = std::numeric_limits<double>::infinity();
     double best_absorb = best;
+    inside.clear();
     for (std::size_t t = 0; t < tracks.size(); ++t) {
       if (!boxes[t].contains(centroid[c], gate_of(tracks[t], p))) continue;
       // A large cluster beside a small track (a car passing a walker) is nearer the walker's
       // centre than its own box's: the box distance decides, the centre only breaks ties.
       const double d = boxes[t].distance(centroid[c]) + 1e-3 * (centroid[c] - boxes[t].centre).norm();
       if (explains_doppler_in_gate(frame, cluster_pixels[c], tracks[t], p)) {
+        if (tracks[t].vehicle(p) && boxes[t].distance(centroid[c]) == 0.0) inside.push_back(t);
         if (d < best) {
           best = d;
           a.owner[c] = static_cast<int>(t);
@@ -161,8 +160,7 @@ void gate_clusters(const Frame& frame, const std::vector<std::vector<std::uint32
       }
     }
     if (pa.most_held_vehicle)
-      a.owner[c] =
-          most_held_vehicle(frame, cluster_pixels[c], centroid[c], a.owner[c], tracks, boxes, p);
+      a.owner[c] = most_held_vehicle(frame, cluster_pixels[c], a.owner[c], inside, boxes, p);
     if (a.owner[c] >= 0) a.absorbed[c] = -1;
   }
 }
