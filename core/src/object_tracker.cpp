@@ -115,6 +115,14 @@ void validate_filter(const TrackerParams& p) {
   tu.positive("straight_sigmas", p.turning.straight_sigmas);
   tu.positive("straight_consistency_sigmas", p.turning.straight_consistency_sigmas);
   tu.positive("straight_max_sigma_ratio", p.turning.straight_max_sigma_ratio);
+  tu.positive("line_min_length_m", p.turning.line_min_length_m);
+  tu.at_least("line_min_columns", p.turning.line_min_columns, 2);
+  tu.non_negative("line_max_angle_rad (0: never)", p.turning.line_max_angle_rad);
+  tu.at_least("line_doppler_angle_rad (not below line_max_angle_rad)",
+              p.turning.line_doppler_angle_rad, p.turning.line_max_angle_rad);
+  FMCW_CHECK_ARG(p.turning.line_doppler_angle_rad <= 0.25 * M_PI,
+                 "tracking.turning.line_doppler_angle_rad must be <= pi/4, got ",
+                 p.turning.line_doppler_angle_rad);
 }
 
 }  // namespace

@@ -1148,6 +1148,18 @@ TEST(ObjectTracker, RejectsBadParametersNamingTheField) {
        "tracking.turning.hold_rate_fraction (0: never) must be >= 0, got -0.8"},
       {[](TrackerParams& p) { p.turning.hold_rate_fraction = std::nan(""); },
        "tracking.turning.hold_rate_fraction (0: never) must be >= 0, got nan"},
+      {[](TrackerParams& p) { p.turning.line_min_length_m = 0.0; },
+       "tracking.turning.line_min_length_m must be > 0, got 0"},
+      {[](TrackerParams& p) { p.turning.line_min_columns = 1; },
+       "tracking.turning.line_min_columns must be >= 2, got 1"},
+      {[](TrackerParams& p) { p.turning.line_max_angle_rad = std::nan(""); },
+       "tracking.turning.line_max_angle_rad (0: never) must be >= 0, got nan"},
+      {[](TrackerParams& p) { p.turning.line_doppler_angle_rad = 0.01; },
+       "tracking.turning.line_doppler_angle_rad (not below line_max_angle_rad) must be >= "
+       "0.0523599, "
+       "got 0.01"},
+      {[](TrackerParams& p) { p.turning.line_doppler_angle_rad = 1.0; },
+       "tracking.turning.line_doppler_angle_rad must be <= pi/4, got 1"},
       {[](TrackerParams& p) { p.fragments.own_motion_hits = -1; },
        "tracking.fragments.own_motion_hits (0: never) must be >= 0, got -1"},
   };

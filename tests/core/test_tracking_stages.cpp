@@ -964,6 +964,22 @@ ClusterEstimate report_one(const AxisCase& c, const Frame& frame, const Track& t
   return est.clusters.front();
 }
 
+// A confirmed track of `hits` updates whose filter's state is the truth: its centre, velocity
+// v and yaw rate w (sigma rad/s of it; 0.1 m and m/s elsewhere).
+Track true_track(const Eigen::Vector2d& centre, const Eigen::Vector2d& v, double w, double sigma,
+                 int hits, double length, double width) {
+  Track tr;
+  tr.id = 1;
+  tr.hits = hits;
+  tr.confirmed = true;
+  tr.length_m = length;
+  tr.width_m = width;
+  tr.x << centre.x(), centre.y(), v.x(), v.y(), w;
+  tr.P = Mat5::Identity() * 0.01;
+  tr.P(4, 4) = sigma * sigma;
+  return tr;
+}
+
 TEST(TrackingTurning, ATurnReleasedWhileItsRateHoldsUpIsHeldAndOneThatEndsIsNot) {
   // A cyclist's track turning at 0.2 rad/s, resolved at 0.05 rad/s of sigma; then its position
   // updates are down-weighted (its box cut by the view) and sigma grows to 0.12: below
@@ -1026,15 +1042,7 @@ TEST(TrackingTurning, AHeldTurnIsTakenOffTheReportedVelocity) {
   const ScanBeams beams(c.rendered.scan);
   const Frame frame = standing_frame(c.rendered.scan, beams);
   const Eigen::Vector2d v = 5.0 * Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
-  Track tr;
-  tr.id = 1;
-  tr.hits = 20;
-  tr.confirmed = true;
-  tr.length_m = 1.8;
-  tr.width_m = 0.6;
-  tr.x << centre.x(), centre.y(), v.x(), v.y(), w;
-  tr.P = Mat5::Identity() * 0.01;
-  tr.P(4, 4) = sigma * sigma;
+  Track tr = true_track(centre, v, w, sigma, 20, 1.8, 0.6);
   tr.updates_since_turn = 1;
   tr.last_turn_rate_rps = 0.21;
   Group g;
@@ -1058,6 +1066,66 @@ TEST(TrackingTurning, AHeldTurnIsTakenOffTheReportedVelocity) {
   // What is left of the rate is in the covariance: the error is within its 95 % ellipse.
   const Eigen::Vector2d e = a.velocity.velocity_mps.head<2>() - v;
   EXPECT_LT(e.dot(a.velocity.covariance.topLeftCorner<2, 2>().ldlt().solve(e)), 5.991);
+}
+
+TEST(TrackingTurning, TheLineAYoungCarsOutlineShowsTakesTheYawRateItLeftInOff) {
+  // A small car (2.8 x 1.6 m: no axis, its long side under Heading::min_length_m) 12 m away,
+  // seen at its corner, driving at 6 m/s along its axis and turning at 0.3 rad/s; its track is
+  // young (3 updates: not settled, the rate 0.35 rad/s of sigma, neither resolved nor too large
+  // to leave in), its filter's velocity the truth. The Doppler's velocity v + w z x (o - c) is
+  // metres per second off v and off the car's axis; the line its outline shows lies along v.
+  // The report takes the rate off in full: v, the rate's variance in the covariance. The same
+  // track heading 20 degrees off the line, or with the rule off, reports the Doppler's velocity.
+  const Eigen::Vector2d centre(10.0, 6.5);
+  const double yaw = 70.0 * M_PI / 180.0, w = 0.3, sigma = 0.35;
+  const AxisCase c = render_box(centre, 2.8, 1.6, yaw);
+  const ScanBeams beams(c.rendered.scan);
+  const Frame frame = standing_frame(c.rendered.scan, beams);
+  const auto track_along = [&](double heading) {
+    return true_track(centre, 6.0 * Eigen::Vector2d(std::cos(heading), std::sin(heading)), w, sigma,
+                      3, 2.8, 1.6);
+  };
+  const TrackerParams p;
+  Track tr = track_along(yaw);
+  Mat5 info = Mat5::Zero();
+  Vec5 grad = Vec5::Zero();
+  EXPECT_FALSE(axis_information(tr, c.pixels, frame, p, info, grad));
+  ASSERT_TRUE(tr.line_seen);
+  EXPECT_FALSE(tr.axis_seen);
+  EXPECT_LT(
+      std::abs(std::remainder(std::atan2(tr.line_axis.y(), tr.line_axis.x()) - yaw, 0.5 * M_PI)),
+      p.turning.line_max_angle_rad);
+  Group g;
+  g.found = c.pixels;
+  g.clusters = {1};
+  const Eigen::Vector2d v = tr.velocity();
+  const Eigen::Vector2d d = mean_origin(frame, g) - centre;
+  const Eigen::Vector2d s(-d.y(), d.x());  // z x (o - c)
+  const ClusterEstimate a = report_one(c, frame, tr, g, p);
+  EXPECT_EQ(a.yaw_rate_rps, w);
+  EXPECT_LT((a.velocity.velocity_mps.head<2>() - v).norm(), 1e-9);
+  const Eigen::Matrix2d cov = a.velocity.covariance.topLeftCorner<2, 2>();
+  const Eigen::Vector2d ss = s.normalized();
+  EXPECT_GT(ss.dot(cov * ss), sigma * sigma * s.squaredNorm());  // the rate's variance
+  // Left in, the rate is metres per second of error.
+  ASSERT_GT(w * s.norm(), 3.0);
+  TrackerParams never = p;
+  never.turning.line_max_angle_rad = 0.0;
+  const ClusterEstimate b = report_one(c, frame, tr, g, never);
+  EXPECT_EQ(b.yaw_rate_rps, 0.0);
+  EXPECT_LT((b.velocity.velocity_mps.head<2>() - (v + w * s)).norm(), 1e-9);
+  // The filter's velocity off the line: nothing says which is the body's.
+  Track off = track_along(yaw + 20.0 * M_PI / 180.0);
+  off.line_seen = true;
+  off.line_axis = tr.line_axis;
+  const ClusterEstimate e = report_one(c, frame, off, g, p);
+  EXPECT_EQ(e.yaw_rate_rps, 0.0);
+  EXPECT_LT((e.velocity.velocity_mps.head<2>() - (off.velocity() + w * s)).norm(), 1e-9);
+  // Nor where the Doppler's velocity lies along the line too (a rate within the noise).
+  Track slow = tr;
+  slow.x(4) = 0.002;
+  EXPECT_FALSE(line_says_turning(slow, slow.velocity() + slow.x(4) * s, p.turning));
+  EXPECT_TRUE(line_says_turning(tr, v + w * s, p.turning));
 }
 
 TEST(TrackingTurning, ATrackCoastingOverAClusterReportsTheDopplerAtThePixelsItLabels) {

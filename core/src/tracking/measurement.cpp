@@ -201,6 +201,7 @@ bool gate_reopens(Track& tr, const Eigen::Vector2d& n, double var,
 bool axis_information(Track& tr, const std::vector<std::uint32_t>& pixels, const Frame& frame, const TrackerParams& p, Mat5& info,
                       Vec5& grad) {
   tr.axis_seen = false;
+  tr.line_seen = false;
   // Only what moves faster than a walker: walkers side by side or in file make one cluster
   // longer than a car, whose long side need not be the way they go. (Not only tracks whose box
   // is already a vehicle's: a car seen first is measured along the Doppler's velocity, which a
@@ -210,7 +211,13 @@ bool axis_information(Track& tr, const std::vector<std::uint32_t>& pixels, const
   const TrackerParams::Heading& ph = p.heading;
   // No long side: a face across the body (its rear or front, seen end-on), the axis its normal.
   const bool face = is_face(a, frame.position, tr.velocity().normalized(), ph);
-  if (!a.informative && !face) return false;
+  if (!a.informative && !face) {
+    // Too short for an axis, no face: a line or an L the report may test its yaw rate by.
+    const TrackerParams::Turning& pt = p.turning;
+    tr.line_seen = a.side_length_m >= pt.line_min_length_m && a.columns >= pt.line_min_columns;
+    tr.line_axis = a.axis;
+    return false;
+  }
   // The direction across the body: across the long side, or along the face.
   const Eigen::Vector2d n = face ? a.side_axis : Eigen::Vector2d(-a.axis.y(), a.axis.x());
   const double heading_var = face ? face_heading_variance(a, frame.position, tr.outline_cut, ph)
@@ -268,7 +275,7 @@ void measure(Track& tr, const Group& whole, bool born, const Frame& frame, const
   if (g.claimed.size() <= g.found.size()) {
     axis_information(tr, g.found, frame, p, info, grad);
   } else {
-    tr.axis_seen = false;
+    tr.axis_seen = tr.line_seen = false;
   }
   information_update(tr, info, grad, p);
 }
@@ -276,7 +283,7 @@ void measure(Track& tr, const Group& whole, bool born, const Frame& frame, const
 void update_track_state(Track& tr, const Group& g, const TrackerParams& p) {
   if (g.empty()) {
     ++tr.misses;
-    tr.axis_seen = false;
+    tr.axis_seen = tr.line_seen = false;
   } else {
     ++tr.hits;
     tr.last_pixels = static_cast<int>(g.found.size());
@@ -313,6 +320,18 @@ bool settled(const Track& tr, const TrackerParams& p) {
   const TrackerParams::Turning& pt = p.turning;
   return pt.shrink_settled && !tr.outline_cut && tr.hits >= pt.min_turn_hits && tr.updates_settled >= pt.settle_updates &&
          tr.updates_since_turn > pt.release_hold_updates;
+}
+
+bool line_says_turning(const Track& tr, const Eigen::Vector2d& doppler_velocity,
+                       const TrackerParams::Turning& p) {
+  if (p.line_max_angle_rad <= 0.0 || !tr.line_seen) return false;
+  // A velocity's angle to the nearest of the rectangle's four directions.
+  const double line = std::atan2(tr.line_axis.y(), tr.line_axis.x());
+  const auto off = [line](const Eigen::Vector2d& v) {
+    return std::abs(std::remainder(std::atan2(v.y(), v.x()) - line, 0.5 * M_PI));
+  };
+  return off(tr.velocity()) < p.line_max_angle_rad &&
+         off(doppler_velocity) > p.line_doppler_angle_rad;
 }
 
 bool turn_held(const Track& tr, const TrackerParams& p) {

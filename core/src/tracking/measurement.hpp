@@ -31,6 +31,12 @@ bool settled(const Track& tr, const TrackerParams& p);
 /// the yaw rate it holds is the body's.
 bool turn_held(const Track& tr, const TrackerParams& p);
 
+/// The line the last update's outline showed (Track::line_seen) says the body drives along the
+/// filter's velocity and not along the Doppler's, `doppler_velocity` (tracker world):
+/// Turning::line_max_angle_rad.
+bool line_says_turning(const Track& tr, const Eigen::Vector2d& doppler_velocity,
+                       const TrackerParams::Turning& p);
+
 /// Straight by its axes (TrackerParams::Turning::straight_window_s): the slope b of the line
 /// through the outline's axes of the last window and its variance var_b are set where there are
 /// enough of them; true where they say the body drives straight.

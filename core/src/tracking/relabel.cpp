@@ -76,12 +76,15 @@ void report_track(const Frame& frame, const Track& tr, const Group& g, const Mot
     const bool too_large = max_left_in > 0.0 && std::abs(w) * s.norm() > max_left_in &&
                            std::abs(w) > p.turning.max_left_in_significance * tr.yaw_rate_sigma();
     const bool known = tr.axis_seen || settled(tr, p) || turn_held(tr, p) || too_large;
+    // Or the line its outline shows says the filter's velocity is the body's and the Doppler's
+    // is not: the rate is taken off in full (TrackerParams::Turning::line_max_angle_rad).
+    const bool by_line = !known && line_says_turning(tr, vel, p.turning);
     // Unless its axes say it drives straight: then the Doppler's velocity, with the yaw rate of
     // the axes' line and its variance in the covariance in place of the filter's
     // (TrackerParams::Turning::straight_window_s).
     double b = 0.0, var_b = 0.0;
     const bool straight = known && !too_large && straight_by_axes(tr, p.turning, b, var_b);
-    const double taken = !straight && known && w2 > 0.0 ? w * w * w / w2 : 0.0;
+    const double taken = by_line ? w : !straight && known && w2 > 0.0 ? w * w * w / w2 : 0.0;
     const double yaw_var = straight ? b * b + var_b : tr.P(4, 4);
     const double left = straight ? 0.0 : w - taken;
     vel -= taken * s;

@@ -294,6 +294,21 @@ struct TrackerParams {
     double straight_sigmas = 2.0;
     double straight_consistency_sigmas = 1.0;
     double straight_max_sigma_ratio = 0.5;
+    /// The line an outline shows: where none of the above says the yaw rate is known (no axis
+    /// measured, not settled, not held, not too large to leave in), but the side the sensor
+    /// sees is at least line_min_length_m long over at least line_min_columns columns (a face
+    /// seen obliquely, an L too short for an axis: Track::line_seen), a vehicle drives along
+    /// one of that rectangle's directions. If the filter's velocity lies within
+    /// line_max_angle_rad of one of them (mod 90 degrees) and the Doppler's velocity, the rate
+    /// left in, more than line_doppler_angle_rad off every one, the rate is the Doppler's error:
+    /// it is taken off in full, its variance in the covariance. Only the report; the filter is
+    /// as it was. A young car turning into view, its front face seen first at 40 degrees to the
+    /// line of sight, reports 2-3 m/s off otherwise (docs/EVALUATION.md, "The line an outline
+    /// shows"). 0 (line_max_angle_rad): never.
+    double line_min_length_m = 1.2;  ///< [m]
+    int line_min_columns = 16;
+    double line_max_angle_rad = 3.0 * M_PI / 180.0;      ///< [rad]
+    double line_doppler_angle_rad = 6.0 * M_PI / 180.0;  ///< [rad]
   } turning;
 
   /// Association of clusters to tracks.
@@ -521,6 +536,10 @@ struct Track {
   bool outline_cut = false;
   /// The last update measured the outline's axis (TrackerParams::Heading).
   bool axis_seen = false;
+  /// The last update's outline showed a line or an L too short for an axis, no face
+  /// (TrackerParams::Turning::line_max_angle_rad), and the direction of its rectangle.
+  bool line_seen = false;
+  Eigen::Vector2d line_axis = Eigen::Vector2d::UnitX();
   /// Scale of the motion noise variances (TrackerParams::Motion::min_noise_scale and
   /// max_noise_scale).
   double noise_scale = 1.0;
