@@ -145,9 +145,10 @@ void gate_clusters(const Frame& frame, const std::vector<std::vector<std::uint32
       if (!boxes[t].contains(centroid[c], gate_of(tracks[t], p))) continue;
       // A large cluster beside a small track (a car passing a walker) is nearer the walker's
       // centre than its own box's: the box distance decides, the centre only breaks ties.
-      const double d = boxes[t].distance(centroid[c]) + 1e-3 * (centroid[c] - boxes[t].centre).norm();
+      const double from_box = boxes[t].distance(centroid[c]);
+      const double d = from_box + 1e-3 * (centroid[c] - boxes[t].centre).norm();
       if (explains_doppler_in_gate(frame, cluster_pixels[c], tracks[t], p)) {
-        if (tracks[t].vehicle(p) && boxes[t].distance(centroid[c]) == 0.0) inside.push_back(t);
+        if (tracks[t].vehicle(p) && from_box == 0.0) inside.push_back(t);
         if (d < best) {
           best = d;
           a.owner[c] = static_cast<int>(t);
