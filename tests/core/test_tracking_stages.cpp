@@ -1126,6 +1126,11 @@ TEST(TrackingTurning, TheLineAYoungCarsOutlineShowsTakesTheYawRateItLeftInOff) {
   slow.x(4) = 0.002;
   EXPECT_FALSE(line_says_turning(slow, slow.velocity() + slow.x(4) * s, p.turning));
   EXPECT_TRUE(line_says_turning(tr, v + w * s, p.turning));
+  // Nor for a track old enough to have resolved a turn (Turning::min_turn_hits updates).
+  Track old = tr;
+  old.hits = p.turning.min_turn_hits;
+  EXPECT_FALSE(line_says_turning(old, v + w * s, p.turning));
+  EXPECT_EQ(report_one(c, frame, old, g, p).yaw_rate_rps, 0.0);
 }
 
 TEST(TrackingTurning, ATrackCoastingOverAClusterReportsTheDopplerAtThePixelsItLabels) {

@@ -324,7 +324,8 @@ bool settled(const Track& tr, const TrackerParams& p) {
 
 bool line_says_turning(const Track& tr, const Eigen::Vector2d& doppler_velocity,
                        const TrackerParams::Turning& p) {
-  if (p.line_max_angle_rad <= 0.0 || !tr.line_seen) return false;
+  // Young: an older track whose rate is still unresolved has had the updates to resolve a turn.
+  if (p.line_max_angle_rad <= 0.0 || !tr.line_seen || tr.hits >= p.min_turn_hits) return false;
   // A velocity's angle to the nearest of the rectangle's four directions.
   const double line = std::atan2(tr.line_axis.y(), tr.line_axis.x());
   const auto off = [line](const Eigen::Vector2d& v) {

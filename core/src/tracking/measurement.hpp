@@ -31,8 +31,8 @@ bool settled(const Track& tr, const TrackerParams& p);
 /// the yaw rate it holds is the body's.
 bool turn_held(const Track& tr, const TrackerParams& p);
 
-/// The line the last update's outline showed (Track::line_seen) says the body drives along the
-/// filter's velocity and not along the Doppler's, `doppler_velocity` (tracker world):
+/// The line the last update's outline showed (Track::line_seen) says a young track's body drives
+/// along the filter's velocity and not along the Doppler's, `doppler_velocity` (tracker world):
 /// Turning::line_max_angle_rad.
 bool line_says_turning(const Track& tr, const Eigen::Vector2d& doppler_velocity,
                        const TrackerParams::Turning& p);

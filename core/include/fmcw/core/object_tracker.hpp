@@ -294,17 +294,18 @@ struct TrackerParams {
     double straight_sigmas = 2.0;
     double straight_consistency_sigmas = 1.0;
     double straight_max_sigma_ratio = 0.5;
-    /// The line an outline shows: where none of the above says the yaw rate is known (no axis
-    /// measured, not settled, not held, not too large to leave in), but the side the sensor
-    /// sees is at least line_min_length_m long over at least line_min_columns columns (a face
-    /// seen obliquely, an L too short for an axis: Track::line_seen), a vehicle drives along
-    /// one of that rectangle's directions. If the filter's velocity lies within
-    /// line_max_angle_rad of one of them (mod 90 degrees) and the Doppler's velocity, the rate
-    /// left in, more than line_doppler_angle_rad off every one, the rate is the Doppler's error:
-    /// it is taken off in full, its variance in the covariance. Only the report; the filter is
-    /// as it was. A young car turning into view, its front face seen first at 40 degrees to the
-    /// line of sight, reports 2-3 m/s off otherwise (docs/EVALUATION.md, "The line an outline
-    /// shows"). 0 (line_max_angle_rad): never.
+    /// The line an outline shows: where none of the above says a young track's yaw rate is
+    /// known (fewer than min_turn_hits updates; no axis measured, not settled, not held, not too
+    /// large to leave in), but the side the sensor sees is at least line_min_length_m long over
+    /// at least line_min_columns columns (a face seen obliquely, an L too short for an axis:
+    /// Track::line_seen), a vehicle drives along one of that rectangle's directions. If the
+    /// filter's velocity lies within line_max_angle_rad of one of them (mod 90 degrees) and the
+    /// Doppler's velocity, the rate left in, more than line_doppler_angle_rad off every one, the
+    /// rate is the Doppler's error: it is taken off in full, its variance in the covariance.
+    /// Only the report; the filter is as it was. A young car turning into view, its front face
+    /// seen first at 40 degrees to the line of sight, reports 2-3 m/s off otherwise
+    /// (docs/EVALUATION.md, "The line an outline shows"). An older track whose rate is still
+    /// unresolved has had the updates to resolve a turn. 0 (line_max_angle_rad): never.
     double line_min_length_m = 1.2;  ///< [m]
     int line_min_columns = 16;
     double line_max_angle_rad = 3.0 * M_PI / 180.0;      ///< [rad]
