@@ -131,6 +131,9 @@ void TwistPriorParams::validate() const {
   FMCW_CHECK_ARG(velocity_margin_mps >= 0.0, "ego prior: velocity_margin_mps must be >= 0, got ", velocity_margin_mps);
   FMCW_CHECK_ARG(yaw_accel_rps2 > 0.0, "ego prior: yaw_accel_rps2 must be > 0, got ", yaw_accel_rps2);
   FMCW_CHECK_ARG(yaw_rate_margin_rps >= 0.0, "ego prior: yaw_rate_margin_rps must be >= 0, got ", yaw_rate_margin_rps);
+  FMCW_CHECK_ARG(std::isfinite(fallback_max_windows) && fallback_max_windows >= 0.0,
+                 "ego prior: fallback_max_windows must be finite and >= 0 (0 = no bound), got ",
+                 fallback_max_windows);
 }
 
 EgoTwistEstimate estimate_ego_twist(const Scan& scan, const EgoTwistParams& params, std::uint64_t seed,
@@ -387,7 +390,7 @@ void fill_estimate(const TwistRows& rows, const HuberSums& sums, const Eigen::Ve
 namespace {
 
 // The estimate on the rows already in ws.rows. With a prior that finds too few inliers, it
-// starts afresh without the prior on the same rows.
+// starts afresh without the prior on the same rows, and keeps that only near the prior.
 EgoTwistEstimate estimate_on_rows(const Scan& scan, const EgoTwistParams& params, std::uint64_t seed, const TwistPrior* prior,
                                   EgoTwistWorkspace& ws) {
   EgoTwistEstimate out;
@@ -409,7 +412,18 @@ EgoTwistEstimate estimate_on_rows(const Scan& scan, const EgoTwistParams& params
   const TwistRows& sub = ws.sub;
   subset_rows(rows, subset, ws.sub);
   const MsacResult best = msac(sub, column_points, pb, seed, ws.r2);
-  if (prior != nullptr && best.score.inliers < params.min_inliers) return estimate_on_rows(scan, params, seed, nullptr, ws);
+  if (prior != nullptr && best.score.inliers < params.min_inliers) {
+    EgoTwistEstimate fresh = estimate_on_rows(scan, params, seed, nullptr, ws);
+    if (!fresh.valid || prior->max_fallback_change_mps <= 0.0 ||
+        (fresh.velocity.velocity_mps - prior->velocity_mps).norm() <=
+            prior->max_fallback_change_mps)
+      return fresh;
+    out.fallback_rejected = true;
+    out.rejected_velocity_mps = fresh.velocity.velocity_mps;
+    out.rejected_inliers = fresh.inliers;
+    out.inliers = best.score.inliers;
+    return out;
+  }
   // Zero-velocity test: a standing rig sees the static world at zero Doppler.
   const Score zero = score(sub, column_points, Eigen::Vector4d::Zero(), params.inlier_threshold_mps, ws.r2);
   out.standing = pb.admissible(Eigen::Vector4d::Zero()) && zero.columns >= best.score.columns &&

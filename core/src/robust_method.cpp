@@ -2,11 +2,14 @@
 // explain, instances by range and Doppler continuity, each instance's velocity in closed form.
 
 #include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <string>
 
+#include "ego_twist_beams.hpp"
 #include "fmcw/core/median.hpp"
 #include "fmcw/core/motion_pipeline.hpp"
 #include "fmcw/core/random.hpp"
-#include "ego_twist_beams.hpp"
 #include "label_renumbering.hpp"
 #include "pipeline_internal.hpp"
 #include "pipeline_workspace.hpp"
@@ -346,6 +349,21 @@ std::vector<ClusterEstimate> solve_instances(const Scan& scan, const ScanBeams& 
   return clusters;
 }
 
+// Why a frame whose window held no world has no ego velocity: the fit without the window lay
+// too far from the last twist.
+std::string rejected_fallback_message(const EgoTwistEstimate& twist, const TwistPrior& prior,
+                                      double dt, double windows) {
+  std::ostringstream m;
+  const Eigen::Vector3d& v = twist.rejected_velocity_mps;
+  m << std::fixed << std::setprecision(2) << "ego velocity not estimable: " << twist.inliers
+    << " sampled points are consistent with a static world within " << prior.max_velocity_change_mps
+    << " m/s of the last estimate (" << dt << " s before); the fit without that bound (" << v.x()
+    << ", " << v.y() << ", " << v.z() << " m/s, " << twist.rejected_inliers << " points) lies "
+    << (v - prior.velocity_mps).norm() << " m/s from it, over " << windows
+    << " times that: taken for traffic filling the view, not for the world";
+  return m.str();
+}
+
 }  // namespace
 
 MotionEstimate MotionPipeline::process_robust(const Scan& scan, std::uint64_t frame_index) {
@@ -360,15 +378,20 @@ MotionEstimate MotionPipeline::process_robust(const Scan& scan, std::uint64_t fr
     return out;
   }
   const std::uint64_t frame_seed = mix_seed(params_.seed, frame_index);
-  // With tracking, the previous frame's twist bounds this one's (the rig's acceleration).
+  // With tracking, the last twist bounds this one's (the rig's acceleration since). Held through
+  // frames without one, it bounds them all until the world shows again.
   TwistPrior prior;
+  const TwistPriorParams& pp = params_.ego_prior;
   const double dt = scan.stamp_s - last_twist_stamp_s_;
-  const bool use_prior = params_.track_objects && has_last_twist_ && dt > 0.0 && dt <= params_.tracking.lifecycle.max_gap_s;
+  const bool continues = has_last_twist_ && dt > 0.0;
+  const bool use_prior = params_.track_objects && continues &&
+                         (pp.hold_across_failures || dt <= params_.tracking.lifecycle.max_gap_s);
   if (use_prior) {
     prior.velocity_mps = last_twist_velocity_;
     prior.yaw_rate_rps = last_twist_yaw_rate_;
-    prior.max_velocity_change_mps = params_.ego_prior.accel_mps2 * dt + params_.ego_prior.velocity_margin_mps;
-    prior.max_yaw_rate_change_rps = params_.ego_prior.yaw_accel_rps2 * dt + params_.ego_prior.yaw_rate_margin_rps;
+    prior.max_velocity_change_mps = pp.accel_mps2 * dt + pp.velocity_margin_mps;
+    prior.max_yaw_rate_change_rps = pp.yaw_accel_rps2 * dt + pp.yaw_rate_margin_rps;
+    prior.max_fallback_change_mps = pp.fallback_max_windows * prior.max_velocity_change_mps;
   }
   PipelineWorkspace& ws = buffers_.get();
   ws.beams.assign(scan);
@@ -378,10 +401,12 @@ MotionEstimate MotionPipeline::process_robust(const Scan& scan, std::uint64_t fr
   const int world_points = twist.inliers;
   const bool no_world = twist.valid && world_points < params_.min_static_fraction * static_cast<double>(num_valid);
   if (no_world) twist = EgoTwistEstimate{};
-  has_last_twist_ = twist.valid;
-  last_twist_stamp_s_ = scan.stamp_s;
-  last_twist_velocity_ = twist.velocity.velocity_mps;
-  last_twist_yaw_rate_ = twist.angular_velocity_rps.z();
+  if (twist.valid || !pp.hold_across_failures || !continues) {
+    has_last_twist_ = twist.valid;
+    last_twist_stamp_s_ = scan.stamp_s;
+    last_twist_velocity_ = twist.velocity.velocity_mps;
+    last_twist_yaw_rate_ = twist.angular_velocity_rps.z();
+  }
   out.ego = twist.velocity;
   out.ego_angular_velocity_rps = twist.angular_velocity_rps;
   out.ego_yaw_rate_estimated = twist.yaw_rate_estimated;
@@ -406,6 +431,9 @@ MotionEstimate MotionPipeline::process_robust(const Scan& scan, std::uint64_t fr
   if (no_world) {
     out.status = MotionStatus::kTooFewStaticPoints;
     out.message = no_static_world_message(world_points, num_valid, params_.min_static_fraction);
+  } else if (twist.fallback_rejected) {
+    out.status = MotionStatus::kTooFewStaticPoints;
+    out.message = rejected_fallback_message(twist, prior, dt, pp.fallback_max_windows);
   } else if (!twist.valid) {
     out.status = MotionStatus::kTooFewStaticPoints;
     out.message = concat("ego velocity not estimable: ", twist.inliers, " points consistent with a static world");

@@ -2,7 +2,12 @@
 
 #include <cmath>
 #include <cstring>
+#include <functional>
+#include <limits>
 #include <map>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "fmcw/core/check.hpp"
 #include "fmcw/core/motion_pipeline.hpp"
@@ -289,6 +294,34 @@ TEST(MotionPipelineParams, UnknownMethodNamesTheKnownOnes) {
   MotionPipelineParams bad;
   bad.segmentation.velocity_threshold_mps = -1.0;
   EXPECT_THROW(MotionPipeline{bad}, std::invalid_argument);
+}
+
+TEST(MotionPipelineParams, TheEgoPriorsBoundsAreChecked) {
+  const std::vector<std::pair<std::function<void(TwistPriorParams&)>, std::string>> cases = {
+      {[](TwistPriorParams& p) { p.accel_mps2 = 0.0; }, "ego prior: accel_mps2 must be > 0, got 0"},
+      {[](TwistPriorParams& p) { p.velocity_margin_mps = -0.1; },
+       "ego prior: velocity_margin_mps must be >= 0, got -0.1"},
+      {[](TwistPriorParams& p) { p.yaw_accel_rps2 = -2.0; },
+       "ego prior: yaw_accel_rps2 must be > 0, got -2"},
+      {[](TwistPriorParams& p) { p.yaw_rate_margin_rps = -1.0; },
+       "ego prior: yaw_rate_margin_rps must be >= 0, got -1"},
+      {[](TwistPriorParams& p) { p.fallback_max_windows = -1.0; },
+       "ego prior: fallback_max_windows must be finite and >= 0 (0 = no bound), got -1"},
+      {[](TwistPriorParams& p) {
+         p.fallback_max_windows = std::numeric_limits<double>::quiet_NaN();
+       },
+       "ego prior: fallback_max_windows must be finite and >= 0 (0 = no bound), got nan"},
+  };
+  for (const auto& [set, expected] : cases) {
+    MotionPipelineParams params = MotionPipelineParams::preset("tracked");
+    set(params.ego_prior);
+    try {
+      MotionPipeline{params};
+      ADD_FAILURE() << "accepted: " << expected;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

@@ -23,6 +23,22 @@ namespace {
 
 MotionEstimate robust(const Scan& scan) { return MotionPipeline(MotionPipelineParams::preset("robust")).process(scan); }
 
+// A street: ground, 10 m buildings on both sides (their faces wall_y_m - 1 from the middle) and
+// 60 m ahead, sky above.
+SyntheticSceneParams street_scene(double wall_y_m) {
+  SyntheticSceneParams p;
+  for (const auto& [center, half] :
+       {std::pair<Eigen::Vector3d, Eigen::Vector3d>{{61, 0, 5}, {1, 80, 5}},
+        {{0, wall_y_m, 5}, {80, 1, 5}},
+        {{0, -wall_y_m, 5}, {80, 1, 5}}}) {
+    SyntheticBox wall;
+    wall.center_m = center;
+    wall.half_extent_m = half;
+    p.static_boxes.push_back(wall);
+  }
+  return p;
+}
+
 TEST(EgoTwist, RecoversVelocityAndYawRateFromHeadsAtDifferentMounts) {
   SyntheticSceneParams p = fmcw::test::static_courtyard();
   p.ego_velocity_mps = {9.0, 0.3, 0.0};
@@ -105,15 +121,7 @@ TEST(RobustMethod, VehicleFillingMostOfTheViewDoesNotFoolTheEgoEstimate) {
   // A bus overtakes close beside the rig and fills more of the image than the static world: the
   // paper's "largest region is static" takes the bus for the world; MSAC scored by the azimuths
   // its inliers cover does not (the world still shows across the rest of the view).
-  SyntheticSceneParams p;  // a street: ground, 10 m buildings on both sides and ahead, sky above
-  for (const auto& [center, half] : {std::pair<Eigen::Vector3d, Eigen::Vector3d>{{61, 0, 5}, {1, 80, 5}},
-                                     {{0, 26, 5}, {80, 1, 5}},
-                                     {{0, -26, 5}, {80, 1, 5}}}) {
-    SyntheticBox wall;
-    wall.center_m = center;
-    wall.half_extent_m = half;
-    p.static_boxes.push_back(wall);
-  }
+  SyntheticSceneParams p = street_scene(26.0);
   p.ego_velocity_mps = {5.0, 0.0, 0.0};
   SyntheticBox bus;  // a truck and trailer, 28 m long, 4 m tall, 1.1 m to the left of the rig
   bus.center_m = {11.0, 2.3, 2.0};
@@ -137,6 +145,68 @@ TEST(RobustMethod, VehicleFillingMostOfTheViewDoesNotFoolTheEgoEstimate) {
   int bus_labelled_moving = 0;
   for (std::size_t i = 0; i < frame.scan.size(); ++i) bus_labelled_moving += frame.truth->instance[i] == 1 && est.labels[i] > 0;
   EXPECT_GT(bus_labelled_moving, static_cast<int>(0.95 * static_cast<double>(bus_pixels)));
+}
+
+TEST(TrackedMethod, TrafficThatFillsTheViewAfterTheWorldIsNotTakenForTheWorld) {
+  // The rig drives at 10 m/s down a street (frames 0-2, 10 Hz); then oncoming traffic at 12 m/s
+  // fills every beam that returns (frames 3-5: a wall of vehicles ahead, no ground, nothing
+  // static in view); then the street again (frame 6). The traffic is static to a rig driving at
+  // 22 m/s: a scan alone says that, the last twist says it cannot be.
+  SyntheticSceneParams street = street_scene(12.0);
+  street.ego_velocity_mps = {10.0, 0.0, 0.0};
+  street.velocity_noise_mps = 0.031;
+  street.range_noise_m = 0.025;
+  SyntheticSceneParams traffic = street;
+  traffic.ground = false;
+  traffic.static_boxes.clear();
+  SyntheticBox lorries;
+  lorries.center_m = {19.0, 0.0, 4.0};
+  lorries.half_extent_m = {11.0, 20.0, 5.0};
+  lorries.velocity_mps = {-12.0, 0.0, 0.0};
+  traffic.actors = {lorries};
+  // Per frame: W the street's ego (10 m/s), T the traffic taken for the world (22 m/s), R no
+  // ego velocity: the fit without the window's bound was rejected.
+  struct Case {
+    double windows;
+    bool hold;
+    const char* expected;
+  };
+  // Without the bound, the traffic is the world. Without the hold, the bound guards one frame;
+  // the next, with no last twist, takes the traffic, and bounds the street's return against it.
+  for (const Case c :
+       {Case{3.0, true, "WWWRRRW"}, Case{0.0, true, "WWWTTTW"}, Case{3.0, false, "WWWRTTR"}}) {
+    MotionPipelineParams params = MotionPipelineParams::preset("tracked");
+    params.ego_prior.fallback_max_windows = c.windows;
+    params.ego_prior.hold_across_failures = c.hold;
+    MotionPipeline tracked(params);
+    for (int k = 0; k <= 6; ++k) {
+      const bool in_traffic = k >= 3 && k <= 5;
+      SyntheticSceneParams p = in_traffic ? traffic : street;
+      p.seed = static_cast<std::uint64_t>(k + 1);
+      Scan scan = render_synthetic_scan(p).scan;
+      scan.stamp_s = 0.1 * k;
+      const MotionEstimate est = tracked.process(scan, static_cast<std::uint64_t>(k));
+      const std::string what = "fallback_max_windows " + std::to_string(c.windows) + ", hold " +
+                               std::to_string(c.hold) + ", frame " + std::to_string(k) + ": " +
+                               est.message;
+      const Eigen::Vector3d seen =
+          in_traffic ? Eigen::Vector3d(22.0, 0.0, 0.0) : street.ego_velocity_mps;
+      if (c.expected[k] != 'R') {
+        ASSERT_TRUE(est.ok()) << what;
+        EXPECT_LT((est.ego.velocity_mps - seen).norm(), 0.05)
+            << what << " ego " << est.ego.velocity_mps.transpose();
+        EXPECT_EQ(c.expected[k] == 'T', in_traffic) << what;
+        continue;
+      }
+      EXPECT_EQ(est.status, MotionStatus::kTooFewStaticPoints) << what;
+      EXPECT_FALSE(est.ego.valid) << what;
+      EXPECT_NE(est.message.find(std::string("the fit without that bound (") +
+                                 (in_traffic ? "22.0" : "10.0")),
+                std::string::npos)
+          << what;
+      EXPECT_NE(est.message.find("taken for traffic filling the view"), std::string::npos) << what;
+    }
+  }
 }
 
 TEST(RobustMethod, CarsSideBySideAtOneSpeedAreTwoInstancesAndATouchingPartStaysWithItsBody) {

@@ -55,6 +55,12 @@ struct EgoTwistEstimate {
   int inliers = 0;                            ///< static-consistent points of the final fit
   double inlier_fraction = 0.0;               ///< of the valid points
   bool valid = false;
+  /// With a prior whose window held no world: the fit without the window lay further from the
+  /// prior than TwistPrior::max_fallback_change_mps (traffic that fills the view, taken for the
+  /// world), so the frame has no estimate. What that fit said, for the message:
+  bool fallback_rejected = false;
+  Eigen::Vector3d rejected_velocity_mps = Eigen::Vector3d::Zero();
+  int rejected_inliers = 0;
 
   /// Velocity of a point fixed to the rig at r (rig frame): V + omega x r.
   Eigen::Vector3d velocity_at(const Eigen::Vector3d& r) const { return velocity.velocity_mps + angular_velocity_rps.cross(r); }
@@ -72,6 +78,15 @@ struct TwistPriorParams {
   double velocity_margin_mps = 0.3;  ///< [m/s]
   double yaw_accel_rps2 = 2.0;       ///< [rad/s^2]
   double yaw_rate_margin_rps = 0.1;  ///< [rad/s]
+  /// When nothing inside the window finds a world, the frame is estimated afresh; that twist is
+  /// taken only if its velocity lies within this many windows of the prior's, else the frame has
+  /// no ego velocity (oncoming traffic that fills the view looks static to a rig driving at the
+  /// sum of both speeds). 0 takes the fresh twist whatever it says.
+  double fallback_max_windows = 3.0;
+  /// The last valid twist stays the prior through frames without one (its window growing with
+  /// the time since), instead of lapsing after a failed frame or a gap over the tracker's
+  /// max_gap_s: one frame of traffic filling the view must not free the next from the bound.
+  bool hold_across_failures = true;
 
   void validate() const;
 };
@@ -81,6 +96,9 @@ struct TwistPrior {
   double yaw_rate_rps = 0.0;
   double max_velocity_change_mps = 1.0;
   double max_yaw_rate_change_rps = 0.3;
+  /// A fresh estimate (the window held no world) further than this from velocity_mps is
+  /// rejected [m/s]; 0 = never rejected.
+  double max_fallback_change_mps = 0.0;
 };
 
 /// MSAC over minimal sets (3 points, or 4 with the yaw rate), each hypothesis scored first by
@@ -89,7 +107,8 @@ struct TwistPrior {
 /// by how many cells, then by its truncated squared residuals; then Huber IRLS on all valid
 /// points. Seeded: reproducible.
 /// With a prior, hypotheses outside its window are rejected; when nothing inside the window
-/// finds min_inliers points, the estimate starts afresh without the prior.
+/// finds min_inliers points, the estimate starts afresh without the prior, and is rejected
+/// (fallback_rejected, not valid) when it lies beyond max_fallback_change_mps of the prior.
 EgoTwistEstimate estimate_ego_twist(const Scan& scan, const EgoTwistParams& params, std::uint64_t seed,
                                     const TwistPrior* prior = nullptr);
 
