@@ -3,9 +3,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <string>
+#include <tuple>
+#include <utility>
 
 #include "fmcw/sim/scenario.hpp"
 #include "fmcw/sim/scenario_generator.hpp"
@@ -148,6 +153,41 @@ TEST_F(Generator, WrittenScenariosLoadAndKeepTheClearance) {
   EXPECT_GT(cyclists, 0);
   EXPECT_GT(parked, 0);
   EXPECT_GT(stops, 0);
+}
+
+// The ground of a written scenario, read back, lies under every body at every frame with room
+// to spare: 50 m at least between anything and its edge. (Once, a half size of 270 m was
+// written as "27": the trailing zeros of a number without decimals were trimmed.)
+TEST_F(Generator, TheGroundReachesFarBeyondEveryBodyOfTheScenario) {
+  std::set<std::string> layouts;
+  for (int k = 0; k < 12; ++k) {
+    const GeneratedScenario g = generate_scenario(*config_, *assets_, 1, k);
+    layouts.insert(g.row.layout);
+    const LoadedScenario loaded = load_scenario(write(g.row.name + ".yaml", g.yaml));
+    ASSERT_TRUE(loaded.scenario.ground) << g.row.name;
+    const double half = loaded.scenario.ground_half_size_m;
+    const ScenarioFootprints f = scenario_footprints(loaded);
+    double farthest = 0.0;
+    std::string what;
+    const auto reach = [&](const Eigen::Vector3d& p, const std::string& name) {
+      const double d = std::max(std::abs(p.x()), std::abs(p.y()));
+      if (d > farthest) std::tie(farthest, what) = std::make_pair(d, name);
+    };
+    for (const Footprint& m : f.moving) {
+      for (int i = 0; i < loaded.scenario.frames; ++i) {
+        reach(m.motion->state(loaded.scenario.frame_time_s(static_cast<std::uint64_t>(i)))
+                  .T_world_body.translation(),
+              m.what);
+      }
+    }
+    for (const Footprint& s : f.fixed) reach(s.T_world_body.translation(), s.what);
+    EXPECT_GE(half, farthest + 50.0)
+        << g.row.name << " (" << g.row.layout << "): ground half size " << half << " m, " << what
+        << " " << farthest << " m from the origin";
+    EXPECT_GT(farthest, 100.0) << g.row.name
+                               << ": the scenario spans more than the ground of the error did";
+  }
+  EXPECT_EQ(layouts.count("highway"), 1u) << "a highway among the twelve";
 }
 
 // A scenario written by hand that breaks the clearance: the loader-based check finds it.

@@ -66,6 +66,7 @@ std::string num(double x, int digits = 3) {
   std::snprintf(buf, sizeof(buf), "%.*f", digits, x);
   std::string s(buf);
   if (s.find_first_not_of("-0.") == std::string::npos) return "0";  // no "-0.000"
+  if (s.find('.') == std::string::npos) return s;  // no decimals: its zeros are the number's
   s.erase(s.find_last_not_of('0') + 1);
   if (s.back() == '.') s.pop_back();
   return s;
