@@ -61,6 +61,9 @@ void validate_filter(const TrackerParams& p) {
   m.positive("outlier_floor_mps", p.measurement.outlier_floor_mps);
   m.positive("position_sigma_m", p.measurement.position_sigma_m);
   m.positive("claim_position_sigma_m", p.measurement.claim_position_sigma_m);
+  m.non_negative("relinearise_mps", p.measurement.relinearise_mps);
+  m.non_negative("relinearise_iterations (0: never)", p.measurement.relinearise_iterations);
+  m.non_negative("relinearise_max_hits", p.measurement.relinearise_max_hits);
   const FieldCheck s{"small"};
   s.non_negative("small_object_m", p.small.small_object_m);
   s.positive("position_sigma_m", p.small.position_sigma_m);

@@ -521,13 +521,14 @@ HiddenCar car_turning_behind_a_wall(const TrackerParams& tp) {
 
 TEST(ObjectTracker, ATurningCarHiddenLongerThanATrackLivesComesBackWithItsTurn) {
   // Hidden for 1.4 s it turns by 40 degrees. A new track's first velocity is the scan's, its
-  // turn left in (measured: 14-15 m/s off in its first three frames back, 5 in the fourth); the
-  // lost track's prediction has kept turning (0.9-1.1 m/s off).
+  // turn left in (measured: 14-15 m/s off in its first two frames back, 4.8 and 3.5 in the next
+  // two; 14-15 and 5 before its first update was linearised again,
+  // measurement.relinearise_mps); the lost track's prediction has kept turning (0.9-1.1 m/s off).
   const HiddenAndBack r = hidden_and_back(car_turning_behind_a_wall, 25, 45);
   ASSERT_GT(r.first, 0u);
   for (std::size_t k = r.first; k < r.first + 4; ++k) {
     EXPECT_LT(r.with.errors[k], 1.5) << "frame " << k;
-    EXPECT_GT(r.without.errors[k], 4.0) << "frame " << k;  // control: what the motion mends
+    EXPECT_GT(r.without.errors[k], 3.0) << "frame " << k;  // control: what the motion mends
   }
 }
 
@@ -1044,6 +1045,14 @@ TEST(ObjectTracker, RejectsBadParametersNamingTheField) {
   const std::vector<std::pair<std::function<void(TrackerParams&)>, std::string>> cases = {
       {[](TrackerParams& p) { p.measurement.doppler_sigma_mps = 0.0; },
        "tracking.measurement.doppler_sigma_mps must be > 0, got 0"},
+      {[](TrackerParams& p) { p.measurement.relinearise_mps = -0.1; },
+       "tracking.measurement.relinearise_mps must be >= 0, got -0.1"},
+      {[](TrackerParams& p) { p.measurement.relinearise_mps = std::nan(""); },
+       "tracking.measurement.relinearise_mps must be >= 0, got nan"},
+      {[](TrackerParams& p) { p.measurement.relinearise_iterations = -1; },
+       "tracking.measurement.relinearise_iterations (0: never) must be >= 0, got -1"},
+      {[](TrackerParams& p) { p.measurement.relinearise_max_hits = -1; },
+       "tracking.measurement.relinearise_max_hits must be >= 0, got -1"},
       {[](TrackerParams& p) { p.lifecycle.max_gap_s = -1.0; },
        "tracking.lifecycle.max_gap_s must be > 0, got -1"},
       {[](TrackerParams& p) { p.growth.range_gap_m = 0.0; },
@@ -1510,7 +1519,8 @@ TEST(ObjectTracker, TheOutlinesAxisResolvesATurningCarByItsSecondUpdate) {
   // The car on a circle (6 m/s, 0.4 rad/s) 33 m away: its Doppler field is that of a velocity
   // 6 m/s off its centre's. Its near side and rear show the body's axis, which the velocity
   // follows: velocity and yaw rate are then both fixed by the first scans. Without the axis the
-  // turn is resolved only after five updates.
+  // turn is resolved only after five updates (measured: 8.4 and 1.95 m/s off in frames 1 and 2;
+  // 2 or more in frame 2 before the first update was linearised again).
   const std::vector<Reported> with = reported(tracked_pipeline(true), 3, circling_car);
   const std::vector<Reported> without = reported(tracked_pipeline(false), 3, circling_car);
   ASSERT_EQ(with.size(), 3u);
@@ -1518,7 +1528,7 @@ TEST(ObjectTracker, TheOutlinesAxisResolvesATurningCarByItsSecondUpdate) {
   for (int k = 1; k < 3; ++k) {
     EXPECT_LT(with[k].error_mps, 0.6) << "frame " << k;
     EXPECT_NEAR(with[k].yaw_rate_rps, kCircleOmega, 0.06) << "frame " << k;
-    EXPECT_GT(without[k].error_mps, 2.0) << "frame " << k;  // control
+    EXPECT_GT(without[k].error_mps, 1.5) << "frame " << k;  // control
   }
 }
 

@@ -689,6 +689,78 @@ TEST(TrackingOutlineAxis, TheAxisFixesTheYawRateTheDopplerLeavesOpen) {
   EXPECT_TRUE(none.isZero());
 }
 
+TEST(TrackingCtrv, AnUpdateThatMovesTheYawRateFarIsLinearisedAgainAndExplainsItsDoppler) {
+  // A van (5 x 2 m) 45 m away, turning at 0.5 rad/s at 4 m/s. One scan sees its velocity at the
+  // sensor, v_app = v + omega z x (o - c): 18 m/s across the beam. Its track is born on that line
+  // with yaw rate 0 (track_on_the_doppler_line), predicted 0.1 s and updated with the next scan,
+  // whose centre says it hardly moved. Linearised at the prediction (relinearise off) the update
+  // finds the turn but misplaces every row: its own pixels' Doppler is off by more than the
+  // association's tolerance, so the next frame would not give it its cluster. Linearised again at
+  // its result (measurement.relinearise_mps), the update explains its pixels and holds the van's
+  // motion.
+  const Eigen::Vector2d c0(44.0, 9.0), v0(0.0, 4.0);
+  const double omega = 0.5, dt = 0.1, s0 = 0.4;
+  Vec5 truth0;
+  truth0 << c0.x(), c0.y(), v0.x(), v0.y(), omega;
+  const Vec5 truth = propagate(truth0, dt);
+  SyntheticSceneParams sp;
+  SyntheticBox b;
+  b.center_m = Eigen::Vector3d(truth(0), truth(1), 1.1);
+  b.half_extent_m = Eigen::Vector3d(2.5, 1.0, 1.0);
+  b.yaw_rad = std::atan2(truth(3), truth(2));
+  b.velocity_mps = Eigen::Vector3d(truth(2), truth(3), 0.0);
+  b.yaw_rate_rps = omega;
+  sp.actors.push_back(b);
+  sp.range_noise_m = 0.025;
+  sp.velocity_noise_mps = 0.031;
+  sp.seed = 11;
+  const fmcw::core::Frame rendered = render_synthetic_scan(sp);
+  Group g;
+  for (std::size_t i = 0; i < rendered.scan.size(); ++i) {
+    if (rendered.scan.valid[i] && rendered.truth->instance[i] == 1)
+      g.found.push_back(static_cast<std::uint32_t>(i));
+  }
+  ASSERT_GT(g.found.size(), 30u);
+  const ScanBeams beams(rendered.scan);
+  const Frame frame = standing_frame(rendered.scan, beams);
+  const ViewEdges edges(rendered.scan, TrackerParams{}.box.occlusion_gap_m);
+  const auto updated = [&](const TrackerParams& p) {
+    Track tr = track_on_the_doppler_line(c0, v0, omega, s0, 5.0, 2.0);
+    EXPECT_GT(tr.velocity().norm(), 15.0);  // the line's point at omega = 0
+    predict(tr, dt, p.motion);
+    measure(tr, g, false, frame, edges, p);
+    return tr;
+  };
+  TrackerParams off;
+  off.measurement.relinearise_iterations = 0;
+  const Track linear = updated(off);
+  EXPECT_GT(doppler_deviation(frame, g.found, linear),
+            off.association.doppler_tolerance_mps);  // 2.3 m/s
+  const TrackerParams p;
+  const Track again = updated(p);
+  EXPECT_LT(doppler_deviation(frame, g.found, again), 0.1);
+  EXPECT_NEAR(again.yaw_rate(), omega, 0.05);  // linearised once: 0.72
+  EXPECT_LT((again.velocity() - truth.segment<2>(2)).norm(), 0.5);
+  // Neither a track at a walker's pace nor one past its first update after birth is updated
+  // again: bit for bit as linearised once.
+  const auto same_as_once = [&](Track t) {
+    Track once = t;
+    predict(t, dt, p.motion);
+    predict(once, dt, off.motion);
+    measure(t, g, false, frame, edges, p);
+    measure(once, g, false, frame, edges, off);
+    return t.x == once.x && t.P == once.P;
+  };
+  Track slow = track_on_the_doppler_line(c0, Eigen::Vector2d::Zero(), 0.0, s0, 5.0, 2.0);
+  slow.x.segment<2>(2) = Eigen::Vector2d(0.5, 0.5);
+  EXPECT_TRUE(same_as_once(slow));
+  Track older = track_on_the_doppler_line(c0, v0, omega, s0, 5.0, 2.0);
+  older.hits = p.measurement.relinearise_max_hits + 1;
+  EXPECT_TRUE(same_as_once(older));
+  older.hits = p.measurement.relinearise_max_hits;
+  EXPECT_FALSE(same_as_once(older));
+}
+
 TEST(TrackingOutlineAxis, ItsHeadingIsFinerBroadsideThanEndOnAndCoarsestAlongside) {
   // The noise the tracker states for the heading an axis measures (axis_heading_variance). A
   // car 30 m away seen broadside: its side's direction comes from its points' ranges, and the

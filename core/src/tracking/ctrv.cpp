@@ -26,18 +26,23 @@ Vec5 propagate(const Vec5& x, double dt) {
   return out;
 }
 
-void predict(Track& t, double dt, const TrackerParams::Motion& p) {
-  if (dt <= 0.0) return;
-  // Jacobian by central differences: the model is smooth and five columns are cheap.
+Mat5 transition_jacobian(const Vec5& x, double dt) {
+  // By central differences: the model is smooth and five columns are cheap.
   Mat5 F;
   for (int k = 0; k < 5; ++k) {
-    const double h = 1e-6 * std::max(1.0, std::abs(t.x(k)));
-    Vec5 a = t.x;
-    Vec5 b = t.x;
+    const double h = 1e-6 * std::max(1.0, std::abs(x(k)));
+    Vec5 a = x;
+    Vec5 b = x;
     a(k) += h;
     b(k) -= h;
     F.col(k) = (propagate(a, dt) - propagate(b, dt)) / (2.0 * h);
   }
+  return F;
+}
+
+void predict(Track& t, double dt, const TrackerParams::Motion& p) {
+  if (dt <= 0.0) return;
+  const Mat5 F = transition_jacobian(t.x, dt);
   // Below 1 the scale is on both noises (a vehicle driving steadily); above 1 on the yaw
   // acceleration's alone (a turn sharper than its noise: Motion::max_noise_scale).
   const double q = std::min(1.0, t.noise_scale) * p.accel_sigma_mps2 * p.accel_sigma_mps2;
@@ -48,6 +53,10 @@ void predict(Track& t, double dt, const TrackerParams::Motion& p) {
     Q(k + 2, k + 2) = q * dt * dt;
   }
   Q(4, 4) = t.noise_scale * p.yaw_accel_sigma_rps2 * p.yaw_accel_sigma_rps2 * dt * dt;
+  t.x_before = t.x;
+  t.P_before = t.P;
+  t.Q_before = Q;
+  t.dt_before = dt;
   t.x = propagate(t.x, dt);
   t.P = F * t.P * F.transpose() + Q;
   t.heading_rad += t.x(4) * dt;

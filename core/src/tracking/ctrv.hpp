@@ -9,6 +9,9 @@ namespace fmcw::core::tracking {
 /// Constant turn rate over dt: the centre moves along an arc, the velocity turns by omega dt.
 Vec5 propagate(const Vec5& x, double dt);
 
+/// The Jacobian of propagate(x, dt) with respect to x.
+Mat5 transition_jacobian(const Vec5& x, double dt);
+
 /// Propagates the track's state, covariance (Jacobian by central differences, white
 /// acceleration and yaw-acceleration noise) and box axes by dt > 0.
 void predict(Track& t, double dt, const TrackerParams::Motion& p);

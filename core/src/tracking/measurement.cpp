@@ -54,19 +54,27 @@ DopplerRows doppler_rows(const Track& tr, const Group& g, const Frame& frame, co
   return d;
 }
 
-// Information and gradient of the Doppler rows. A small object: one row, the mean of the inlier
-// rows, its noise the rows' spread over the square root of their effective count, floored (the
-// gait phase moves the mean). Otherwise every inlier row, weighted as at most
-// max_effective_rows independent ones.
-void doppler_information(const DopplerRows& d, const Vec5& x, bool small, const TrackerParams& p, Mat5& info, Vec5& grad) {
+// Information and gradient of the Doppler rows for an update from the state `base`, linearised at
+// x (x == base: the rows' residuals as found against the prediction; the inliers stay those). A
+// small object: one row, the mean of the inlier rows, its noise the rows' spread over the square
+// root of their effective count, floored (the gait phase moves the mean). Otherwise every inlier
+// row, weighted as at most max_effective_rows independent ones.
+void doppler_information(const DopplerRows& d, const Vec5& base, const Vec5& x, bool small,
+                         const TrackerParams& p, Mat5& info, Vec5& grad) {
+  // The residual of the row's line at x, taken from base: y - h(x) + H(x) (x - base).
+  const bool at_base = x == base;
+  const auto residual = [&](const Row& r, const Vec5& h) {
+    return at_base ? r.residual : r.y - predicted(r, x) + h.dot(x - base);
+  };
   const TrackerParams::Measurement& pm = p.measurement;
   if (small) {
     Vec5 h_mean = Vec5::Zero();
     double res_mean = 0.0;
     for (const Row& r : d.rows) {
       if (!d.inlier(r)) continue;
-      h_mean += row_jacobian(r, x);
-      res_mean += r.residual;
+      const Vec5 h = row_jacobian(r, x);
+      h_mean += h;
+      res_mean += residual(r, h);
     }
     if (d.used == 0) return;
     h_mean /= static_cast<double>(d.used);
@@ -85,7 +93,7 @@ void doppler_information(const DopplerRows& d, const Vec5& x, bool small, const 
     if (!d.inlier(r)) continue;
     const Vec5 h = row_jacobian(r, x);
     info.noalias() += w * h * h.transpose();
-    grad += w * h * r.residual;
+    grad += w * h * residual(r, h);
   }
 }
 
@@ -245,6 +253,64 @@ bool axis_information(Track& tr, const std::vector<std::uint32_t>& pixels, const
   return true;
 }
 
+namespace {
+
+// The update again, linearised at its result (TrackerParams::Measurement::relinearise_mps): a young
+// track whose scan took a far turning body's yaw rate for velocity across the beams (the prior's
+// line, omega ~ 0) moves by metres at its first update after birth, and linearised at the
+// prediction, that update leaves its own pixels' Doppler unexplained by metres per second. Each
+// pass takes the earlier state the last result implies (one smoother step back through the
+// prediction), the prediction linearised there as the prior, and the rows linearised at the
+// result (their residuals from that prior's mean; the inliers stay those of the prediction); the
+// box centre and the axis are linear, their information kept. info and grad come in as the first
+// pass made them and leave as the last; the track's state and covariance become that pass's
+// prior.
+void relinearise(Track& tr, const DopplerRows& d, bool small, const Mat5& info_rest,
+                 const Vec5& grad_rest, const TrackerParams& p, Mat5& info, Vec5& grad) {
+  const TrackerParams::Measurement& pm = p.measurement;
+  if (pm.relinearise_iterations <= 0 || tr.hits > pm.relinearise_max_hits ||
+      !(tr.dt_before > 0.0) || tr.velocity().norm() <= p.small.walker_max_speed_mps)
+    return;
+  const double dt = tr.dt_before;
+  const Vec5 x0 = tr.x;  // the prediction
+  Mat5 P_inv = tr.P.inverse();
+  Vec5 prior = x0;
+  Mat5 P = tr.P;
+  Vec5 before = tr.x_before;  // the earlier state the prediction is linearised at
+  Mat5 F = transition_jacobian(before, dt);
+  Vec5 after = x0;  // the state the rows are linearised at
+  bool moved = false;
+  for (int k = 0; k < pm.relinearise_iterations; ++k) {
+    const Mat5 P_post = (P_inv + info).inverse();
+    const Vec5 next = prior + P_post * grad;
+    const Vec5 dx = next - after;
+    const double bound = std::abs(dx(4)) * (dx.head<2>().norm() + dt * dx.segment<2>(2).norm());
+    if (!next.allFinite() || !(bound > pm.relinearise_mps)) break;
+    // The earlier state the update implies (one step of the smoother), and the prediction
+    // linearised there.
+    const Vec5 smoothed = tr.x_before + tr.P_before * F.transpose() * P_inv * (next - prior);
+    if (!smoothed.allFinite()) break;
+    before = smoothed;
+    after = next;
+    F = transition_jacobian(before, dt);
+    prior = propagate(before, dt) + F * (tr.x_before - before);
+    P = F * tr.P_before * F.transpose() + tr.Q_before;
+    P_inv = P.inverse();
+    // The rows at `after`, from the new prior's mean; the linear ones moved to it.
+    info.setZero();
+    grad.setZero();
+    doppler_information(d, prior, after, small, p, info, grad);
+    info += info_rest;
+    grad += grad_rest + info_rest * (x0 - prior);
+    moved = true;
+  }
+  if (!moved) return;
+  tr.x = prior;
+  tr.P = 0.5 * (P + P.transpose());
+}
+
+}  // namespace
+
 void measure(Track& tr, const Group& whole, bool born, const Frame& frame, const ViewEdges& edges, const TrackerParams& p) {
   Group mine;
   if (tr.walker && !born) mine = walker_pixels(tr, whole, frame, p);
@@ -256,9 +322,10 @@ void measure(Track& tr, const Group& whole, bool born, const Frame& frame, const
   }
   const DopplerRows d = doppler_rows(tr, g, frame, p.measurement);
   const bool small = tr.small(p);  // the box may just have been measured
-  Mat5 info = Mat5::Zero();
-  Vec5 grad = Vec5::Zero();
-  doppler_information(d, tr.x, small, p, info, grad);
+  // The box centre and the outline's axis, linear in the state (their blocks of the information
+  // are apart).
+  Mat5 info_rest = Mat5::Zero();
+  Vec5 grad_rest = Vec5::Zero();
   // The box centre, Huber-weighted beyond 3 standard deviations of the innovation.
   const Eigen::Vector2d innovation = box.seen ? Eigen::Vector2d(box.centre - tr.x.head<2>()) : Eigen::Vector2d::Zero();
   const double pos_sigma = box.centre_from_claims ? p.measurement.claim_position_sigma_m
@@ -268,15 +335,21 @@ void measure(Track& tr, const Group& whole, bool born, const Frame& frame, const
   const Eigen::Matrix2d S = tr.P.topLeftCorner<2, 2>() + Eigen::Matrix2d::Identity() / pos_w_here;
   const double mahalanobis = std::sqrt(innovation.dot(S.inverse() * innovation));
   const double pw = box.seen ? pos_w_here * std::min(1.0, 3.0 / std::max(mahalanobis, 1e-12)) : 0.0;
-  info.topLeftCorner<2, 2>() += pw * Eigen::Matrix2d::Identity();
-  grad.head<2>() += pw * innovation;
+  info_rest.topLeftCorner<2, 2>() += pw * Eigen::Matrix2d::Identity();
+  grad_rest.head<2>() += pw * innovation;
   // The axis of the found pixels, unless the claimed ones (from the background, not this scan's
   // clusters) outnumber them.
   if (g.claimed.size() <= g.found.size()) {
-    axis_information(tr, g.found, frame, p, info, grad);
+    axis_information(tr, g.found, frame, p, info_rest, grad_rest);
   } else {
     tr.axis_seen = tr.line_seen = false;
   }
+  Mat5 info = Mat5::Zero();
+  Vec5 grad = Vec5::Zero();
+  doppler_information(d, tr.x, tr.x, small, p, info, grad);
+  info += info_rest;
+  grad += grad_rest;
+  relinearise(tr, d, small, info_rest, grad_rest, p, info, grad);
   information_update(tr, info, grad, p);
 }
 

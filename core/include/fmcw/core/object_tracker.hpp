@@ -34,6 +34,17 @@ struct TrackerParams {
     /// claims; their centre is a weak measurement of its position (they may include whatever
     /// stands close by) [m].
     double claim_position_sigma_m = 0.75;
+    /// The prediction and the Doppler rows are linearised at the predicted state, and both are
+    /// bilinear in the yaw rate and the rest (the velocity turns by omega dt; a row reads omega
+    /// e . (z x (o - c))). The first update after a track's birth meets the line its prior
+    /// leaves open (velocity against yaw rate, start_track): where its step bounds their
+    /// linearisation error, |d omega| (|d c| + dt |d v|), above relinearise_mps (a row's noise),
+    /// it is made again with both linearised at its result, at most relinearise_iterations
+    /// times (0: never), for a track faster than a walker with at most relinearise_max_hits
+    /// updates (its birth counts one): an iterated smoother over the one step [m/s].
+    double relinearise_mps = 0.08;
+    int relinearise_iterations = 3;
+    int relinearise_max_hits = 1;
   } measurement;
 
   /// Small objects and walkers.
@@ -499,6 +510,13 @@ struct Track {
   /// State: centre x, y [m], velocity x, y [m/s], yaw rate [rad/s], all in the tracker's world.
   Eigen::Matrix<double, 5, 1> x = Eigen::Matrix<double, 5, 1>::Zero();
   Eigen::Matrix<double, 5, 5> P = Eigen::Matrix<double, 5, 5>::Identity();
+  /// The state and covariance before the last prediction, the time it spanned and the noise it
+  /// added (dt 0: not predicted yet): the update may linearise the prediction again
+  /// (TrackerParams::Measurement::relinearise_mps).
+  Eigen::Matrix<double, 5, 1> x_before = Eigen::Matrix<double, 5, 1>::Zero();
+  Eigen::Matrix<double, 5, 5> P_before = Eigen::Matrix<double, 5, 5>::Identity();
+  Eigen::Matrix<double, 5, 5> Q_before = Eigen::Matrix<double, 5, 5>::Zero();
+  double dt_before = 0.0;
   double heading_rad = 0.0;  ///< box axis; follows the velocity once the object moves
   double extents_heading_rad = 0.0;  ///< the axis the extents were measured along, turned with the body
   double length_m = 0.0;     ///< largest extent seen along the heading [m]
