@@ -255,6 +255,23 @@ bool axis_information(Track& tr, const std::vector<std::uint32_t>& pixels, const
 
 namespace {
 
+// The update's information and gradient from the prior's mean `prior`: the Doppler rows
+// linearised at `at`, plus the linear rest (the box centre and the axis, info_rest and grad_rest,
+// measured from the prediction x0 and moved to that mean).
+void update_information(const DopplerRows& d, const Vec5& x0, const Vec5& prior, const Vec5& at,
+                        bool small, const Mat5& info_rest, const Vec5& grad_rest,
+                        const TrackerParams& p, Mat5& info, Vec5& grad) {
+  info.setZero();
+  grad.setZero();
+  doppler_information(d, prior, at, small, p, info, grad);
+  info += info_rest;
+  if (prior == x0) {
+    grad += grad_rest;
+  } else {
+    grad += grad_rest + info_rest * (x0 - prior);
+  }
+}
+
 // The update again, linearised at its result (TrackerParams::Measurement::relinearise_mps): a young
 // track whose scan took a far turning body's yaw rate for velocity across the beams (the prior's
 // line, omega ~ 0) moves by metres at its first update after birth, and linearised at the
@@ -296,12 +313,7 @@ void relinearise(Track& tr, const DopplerRows& d, bool small, const Mat5& info_r
     prior = propagate(before, dt) + F * (tr.x_before - before);
     P = F * tr.P_before * F.transpose() + tr.Q_before;
     P_inv = P.inverse();
-    // The rows at `after`, from the new prior's mean; the linear ones moved to it.
-    info.setZero();
-    grad.setZero();
-    doppler_information(d, prior, after, small, p, info, grad);
-    info += info_rest;
-    grad += grad_rest + info_rest * (x0 - prior);
+    update_information(d, x0, prior, after, small, info_rest, grad_rest, p, info, grad);
     moved = true;
   }
   if (!moved) return;
@@ -344,11 +356,9 @@ void measure(Track& tr, const Group& whole, bool born, const Frame& frame, const
   } else {
     tr.axis_seen = tr.line_seen = false;
   }
-  Mat5 info = Mat5::Zero();
-  Vec5 grad = Vec5::Zero();
-  doppler_information(d, tr.x, tr.x, small, p, info, grad);
-  info += info_rest;
-  grad += grad_rest;
+  Mat5 info;
+  Vec5 grad;
+  update_information(d, tr.x, tr.x, tr.x, small, info_rest, grad_rest, p, info, grad);
   relinearise(tr, d, small, info_rest, grad_rest, p, info, grad);
   information_update(tr, info, grad, p);
 }
