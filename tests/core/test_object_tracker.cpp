@@ -1804,7 +1804,8 @@ TEST(ObjectTracker, AnOutlineLargerThanAWalkerAtAWalkersPaceReportsTheSpreadOfAG
 TEST(ObjectTracker, ACarSlowingToAWalkersPaceIsNoGroup) {
   // A car (4.5 x 1.8 m) driving away 12 m ahead at 8 m/s brakes at 4 m/s^2 from t = 1 s to a
   // crawl at 1.5 m/s (t = 2.625 s). It was at a vehicle's pace for more than vehicle_pace_updates
-  // updates: at 1.5 m/s it is still a car, not a group of walkers, and its covariance is its own.
+  // updates: at 1.5 m/s it is still a car, not a group of walkers, and its covariance is its own,
+  // scaled by its updates.
   const auto car = [](double t) {
     const double t1 = 1.0;
     const double t2 = t1 + (8.0 - 1.5) / 4.0;
@@ -1828,13 +1829,21 @@ TEST(ObjectTracker, ACarSlowingToAWalkersPaceIsNoGroup) {
   EXPECT_EQ(car_spread.untracked, 0);
   EXPECT_LT(car_spread.max_variance, s2);
   EXPECT_LT(car_spread.max_error, 0.5);
+  // Crawling, it reports the covariance its updates show (TrackerParams::Calibration), narrower
+  // than its filter's own, with the same velocity: a car at a walker's pace is no walker's gait.
+  MotionPipelineParams own = params;
+  own.tracking.calibration.enabled = false;
+  const ReportedSpread car_own = reported_spread(own, car, 45, 30);
+  EXPECT_LT(car_spread.max_variance, 0.5 * car_own.max_variance);
+  EXPECT_EQ(car_own.max_error, car_spread.max_error);
   // Control: had it never been fast for long enough, the crawl would take it for a group, its
-  // velocity the same, its variances group_sigma_mps squared larger.
+  // velocity the same, its variances group_sigma_mps squared larger than its filter's own (a
+  // group's is not scaled by its updates).
   MotionPipelineParams never = params;
   never.tracking.small.vehicle_pace_updates = 1000;
   const ReportedSpread as_group = reported_spread(never, car, 45, 30);
   EXPECT_EQ(as_group.untracked, 0);
-  EXPECT_NEAR(as_group.min_variance - car_spread.min_variance, s2, 1e-9);
+  EXPECT_NEAR(as_group.min_variance - car_own.min_variance, s2, 1e-9);
   EXPECT_EQ(as_group.max_error, car_spread.max_error);
 }
 

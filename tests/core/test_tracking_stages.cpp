@@ -258,6 +258,21 @@ TEST(TrackingCtrv, TheCovarianceScaleFollowsTheCorrectionsWithinItsBounds) {
   walker.length_m = walker.width_m = 0.6;
   walker.expected_corrections = 30.0;
   EXPECT_EQ(walker.covariance_scale(p), 1.0);
+  // A car that has driven at a vehicle's pace and slowed to a walker's in a queue is neither a
+  // walker nor a group of them: its covariance follows its updates. Turning, or small, it still
+  // reports the filter's.
+  Track queued = car_track(2.0);
+  queued.vehicle_pace = true;
+  queued.corrections = 1.0;
+  queued.expected_corrections = 30.0;
+  EXPECT_DOUBLE_EQ(queued.covariance_scale(p), 2.0 / 31.0);
+  Track queued_turning = car_track(2.0, 0.1);
+  queued_turning.vehicle_pace = true;
+  queued_turning.expected_corrections = 30.0;
+  EXPECT_EQ(queued_turning.covariance_scale(p), 1.0);
+  Track queued_small = queued;
+  queued_small.length_m = queued_small.width_m = 0.6;
+  EXPECT_EQ(queued_small.covariance_scale(p), 1.0);
   TrackerParams off;
   off.calibration.enabled = false;
   EXPECT_EQ(t.covariance_scale(off), 1.0);

@@ -165,8 +165,9 @@ struct TrackerParams {
   /// included; not the yaw rate the report leaves in the velocity) is multiplied by
   /// (corrections + prior_dof) / (expected + prior_dof), within [min_scale, 1]: a track with
   /// few updates reports the filter's covariance. Tracks whose next motion their past updates
-  /// do not tell (Track::unsteady: small objects, objects at a walker's pace, turning ones)
-  /// report the filter's covariance. Estimates are not changed, only the covariance reported.
+  /// do not tell (Track::unsteady: small objects, objects at a walker's pace that have not driven
+  /// at a vehicle's, turning ones) report the filter's covariance. Estimates are not changed,
+  /// only the covariance reported.
   struct Calibration {
     bool enabled = true;
     double memory = 0.9;     ///< weight of the sums so far at each update, in [0, 1)
@@ -595,12 +596,14 @@ struct Track {
     return !small(p) && !vehicle_pace && velocity().norm() <= p.small.walker_max_speed_mps;
   }
   /// Its next motion is not what its past updates say: a small object (a walker's gait), one at
-  /// a walker's pace (walkers side by side make one box) or a turning one (|yaw rate| above
-  /// turning.min_turn_rate_rps). Keeps at least the full noise (Motion::min_noise_scale; a
-  /// turning one may have more, Motion::max_noise_scale) and reports the filter's covariance
-  /// (Calibration).
+  /// a walker's pace (walkers side by side make one box) that has not driven at a vehicle's
+  /// (vehicle_pace: a car slowed to a walker's pace in a queue is neither), or a turning one
+  /// (|yaw rate| above turning.min_turn_rate_rps). Keeps at least the full noise
+  /// (Motion::min_noise_scale; a turning one may have more, Motion::max_noise_scale) and reports
+  /// the filter's covariance (Calibration).
   bool unsteady(const TrackerParams& p) const {
-    return small(p) || velocity().norm() <= p.small.walker_max_speed_mps || std::abs(yaw_rate()) > p.turning.min_turn_rate_rps;
+    return small(p) || (!vehicle_pace && velocity().norm() <= p.small.walker_max_speed_mps) ||
+           std::abs(yaw_rate()) > p.turning.min_turn_rate_rps;
   }
   /// The factor on the filter's covariance it reports (TrackerParams::Calibration).
   double covariance_scale(const TrackerParams& p) const;
