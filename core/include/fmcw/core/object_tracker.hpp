@@ -590,20 +590,21 @@ struct Track {
   bool small(const TrackerParams& p) const {
     return walker || std::max(length_m, width_m) < p.small.small_object_m;
   }
+  /// At a walker's pace and never at a vehicle's (vehicle_pace): a walker or walkers side by
+  /// side, not a car slowed to a walker's pace in a queue.
+  bool at_walkers_pace(const TrackerParams& p) const {
+    return !vehicle_pace && velocity().norm() <= p.small.walker_max_speed_mps;
+  }
   /// Larger than a walker at a walker's pace, never at a vehicle's: maybe a group of walkers
   /// (TrackerParams::Small::group_sigma_mps).
-  bool may_be_group(const TrackerParams& p) const {
-    return !small(p) && !vehicle_pace && velocity().norm() <= p.small.walker_max_speed_mps;
-  }
-  /// Its next motion is not what its past updates say: a small object (a walker's gait), one at
-  /// a walker's pace (walkers side by side make one box) that has not driven at a vehicle's
-  /// (vehicle_pace: a car slowed to a walker's pace in a queue is neither), or a turning one
-  /// (|yaw rate| above turning.min_turn_rate_rps). Keeps at least the full noise
-  /// (Motion::min_noise_scale; a turning one may have more, Motion::max_noise_scale) and reports
-  /// the filter's covariance (Calibration).
+  bool may_be_group(const TrackerParams& p) const { return !small(p) && at_walkers_pace(p); }
+  /// Its next motion is not what its past updates say: a small object (a walker's gait), one
+  /// at_walkers_pace (walkers side by side make one box) or a turning one (|yaw rate| above
+  /// turning.min_turn_rate_rps). Keeps at least the full noise (Motion::min_noise_scale; a
+  /// turning one may have more, Motion::max_noise_scale) and reports the filter's covariance
+  /// (Calibration).
   bool unsteady(const TrackerParams& p) const {
-    return small(p) || (!vehicle_pace && velocity().norm() <= p.small.walker_max_speed_mps) ||
-           std::abs(yaw_rate()) > p.turning.min_turn_rate_rps;
+    return small(p) || at_walkers_pace(p) || std::abs(yaw_rate()) > p.turning.min_turn_rate_rps;
   }
   /// The factor on the filter's covariance it reports (TrackerParams::Calibration).
   double covariance_scale(const TrackerParams& p) const;
