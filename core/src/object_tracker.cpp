@@ -145,6 +145,7 @@ void TrackerParams::validate() const {
   h.at_least("reopen_support", heading.reopen_support, 1);
   h.at_least("cut_sigma_factor", heading.cut_sigma_factor, 1.0);
   h.positive("slip_sigma_mps", heading.slip_sigma_mps);
+  h.non_negative("slip_sigma_rad", heading.slip_sigma_rad);
   h.non_negative("centre_offset_fraction", heading.centre_offset_fraction);
   h.non_negative("face_min_length_m (0: never)", heading.face_min_length_m);
   h.at_least("face_min_columns", heading.face_min_columns, 2);

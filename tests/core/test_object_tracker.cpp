@@ -1102,6 +1102,8 @@ TEST(ObjectTracker, RejectsBadParametersNamingTheField) {
        "tracking.heading.gate_sigmas (0: never) must be >= 0, got -4"},
       {[](TrackerParams& p) { p.heading.slip_sigma_mps = 0.0; },
        "tracking.heading.slip_sigma_mps must be > 0, got 0"},
+      {[](TrackerParams& p) { p.heading.slip_sigma_rad = -0.01; },
+       "tracking.heading.slip_sigma_rad must be >= 0, got -0.01"},
       {[](TrackerParams& p) { p.heading.face_min_length_m = -1.2; },
        "tracking.heading.face_min_length_m (0: never) must be >= 0, got -1.2"},
       {[](TrackerParams& p) { p.heading.face_min_columns = 1; },

@@ -809,6 +809,45 @@ TEST(TrackingOutlineAxis, ItsHeadingIsFinerBroadsideThanEndOnAndCoarsestAlongsid
                    p.cut_sigma_factor * p.cut_sigma_factor * s_broadside * s_broadside);
 }
 
+TEST(TrackingOutlineAxis, ItsNoiseAcrossTheBodyHoldsASlipThatGrowsWithTheSpeed) {
+  // The noise axis_information states for the velocity across the body: the speed times the
+  // heading's noise, plus a slip, the larger of slip_sigma_mps and the speed times
+  // slip_sigma_rad (no turn here: no lateral term). A car 30 m away seen broadside, its track on
+  // its axis, not turning: at 4 m/s the slip is its floor (0.1 m/s), at 25 m/s 0.25 m/s. The
+  // innovation is within three of its standard deviations, so the information across the body
+  // is one over that variance.
+  const TrackerParams p;
+  const double bearing = 10.0 * M_PI / 180.0;
+  const double yaw = bearing + 0.5 * M_PI;
+  const Eigen::Vector2d at30 = 30.0 * Eigen::Vector2d(std::cos(bearing), std::sin(bearing));
+  const AxisCase c = render_box(at30, 4.5, 1.8, yaw);
+  const ScanBeams beams(c.rendered.scan);
+  const Frame frame = standing_frame(c.rendered.scan, beams);
+  const OutlineAxis a = axis_of(c);
+  ASSERT_TRUE(a.informative);
+  const Eigen::Vector2d along(std::cos(yaw), std::sin(yaw));
+  ASSERT_FALSE(is_face(a, frame.position, along, p.heading));
+  const double heading_var = axis_heading_variance(a, frame.position, false, p.heading);
+  const Eigen::Vector2d n(-a.axis.y(), a.axis.x());
+  const auto slip_of = [&](double speed) {
+    Track tr;
+    tr.hits = 3;
+    tr.length_m = 4.5;
+    tr.width_m = 1.8;
+    tr.x << at30.x(), at30.y(), speed * along.x(), speed * along.y(), 0.0;
+    tr.P = Mat5::Identity() * 0.01;
+    Mat5 info = Mat5::Zero();
+    Vec5 grad = Vec5::Zero();
+    EXPECT_TRUE(axis_information(tr, c.pixels, frame, p, info, grad));
+    const double var = 1.0 / n.dot(info.block<2, 2>(2, 2) * n);
+    return std::sqrt(var - speed * speed * heading_var);
+  };
+  EXPECT_NEAR(slip_of(4.0), p.heading.slip_sigma_mps, 1e-9);
+  EXPECT_NEAR(slip_of(25.0), 25.0 * p.heading.slip_sigma_rad, 1e-9);
+  EXPECT_DOUBLE_EQ(p.heading.slip_sigma_mps, 0.1);
+  EXPECT_DOUBLE_EQ(25.0 * p.heading.slip_sigma_rad, 0.25);
+}
+
 // A track of a car 4.5 x 1.8 m at (20, 6), sure it drives along x at 8 m/s.
 Track sure_along_x() {
   Track tr;

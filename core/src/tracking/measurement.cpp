@@ -235,7 +235,8 @@ bool axis_information(Track& tr, const std::vector<std::uint32_t>& pixels, const
   // long as the body is wide, the body at least min_length_m long.
   const double body_m = face ? std::max(tr.length_m, ph.min_length_m) : a.length_m;
   const double lateral = ph.centre_offset_fraction * body_m * std::abs(tr.yaw_rate());
-  const double var = speed * speed * heading_var + ph.slip_sigma_mps * ph.slip_sigma_mps + lateral * lateral;
+  const double slip = std::max(ph.slip_sigma_mps, ph.slip_sigma_rad * speed);
+  const double var = speed * speed * heading_var + slip * slip + lateral * lateral;
   const double innovation = -n.dot(tr.velocity());
   const double spread = std::sqrt(n.dot(tr.P.block<2, 2>(2, 2) * n) + var);
   // An axis this far off the track's heading is another shape's (a far car's few columns read

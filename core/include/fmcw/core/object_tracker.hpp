@@ -181,8 +181,10 @@ struct TrackerParams {
   /// yaw rate only along a line; with the direction of the velocity known, it fixes both. Measured
   /// where the long side is at least min_length_m (longer than any vehicle is wide: it is the
   /// body's length) and min_aspect times the short side (a square-ish outline says nothing). The
-  /// noise of the velocity across the axis: the speed times the heading's noise, a slip, and the
-  /// lateral velocity of the box's centre in a turn (a car turns about its rear axle: |omega| times
+  /// noise of the velocity across the axis: the speed times the heading's noise, a slip (the
+  /// larger of slip_sigma_mps and the speed times slip_sigma_rad: a body drifts across its axis
+  /// by a small angle, more metres per second the faster it goes), and the lateral velocity of
+  /// the box's centre in a turn (a car turns about its rear axle: |omega| times
   /// centre_offset_fraction of its length). The heading's noise, from the axis's measured errors
   /// (docs/METHODS.md, "The outline's axis"): sigma_rad (near_sigma_rad where the range is less
   /// than near_range_lengths times the length: a long body alongside, its outline spanning a
@@ -226,7 +228,8 @@ struct TrackerParams {
     double near_sigma_rad = 0.015;      ///< [rad]
     double near_range_lengths = 2.0;
     double cut_sigma_factor = 1.5;
-    double slip_sigma_mps = 0.2;        ///< [m/s]
+    double slip_sigma_mps = 0.1;   ///< [m/s], at least
+    double slip_sigma_rad = 0.01;  ///< [rad], times the speed
     double centre_offset_fraction = 0.25;
     double gate_sigmas = 4.0;
     double reopen_sigmas = 3.0;     ///< (0: never)
