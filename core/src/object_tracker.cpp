@@ -76,6 +76,10 @@ void validate_filter(const TrackerParams& p) {
   s.at_least("vehicle_pace_updates", p.small.vehicle_pace_updates, 1);
   s.non_negative("rigid_patch_sigma_mps (0: never)", p.small.rigid_patch_sigma_mps);
   s.positive("companion_sigma_mps", p.small.companion_sigma_mps);
+  s.non_negative("silhouette_stray_gap_m (0: every pixel counts)", p.small.silhouette_stray_gap_m);
+  FMCW_CHECK_ARG(p.small.silhouette_stray_share >= 0.0 && p.small.silhouette_stray_share < 0.5,
+                 "tracking.small.silhouette_stray_share must be in [0, 0.5), got ",
+                 p.small.silhouette_stray_share);
   const FieldCheck mo{"motion"};
   mo.positive("accel_sigma_mps2", p.motion.accel_sigma_mps2);
   mo.positive("yaw_accel_sigma_rps2", p.motion.yaw_accel_sigma_rps2);

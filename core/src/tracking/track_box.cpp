@@ -222,19 +222,26 @@ Anchor anchor(const Outline& o, const Eigen::Vector2d& axis, double lo, double h
 // A small, slow track that is not yet a walker, across the line of sight: where one edge of its
 // outline is cut sideways (an occluder beside it, a head's edge) and the other is not, the uncut
 // edge is its silhouette and the centre lies half its width inward from it. Its width: the widest
-// its outline has shown across the sight (Track::across_extent_m, under small_object_m). A walker
-// coming into a head's view at its edge, or out from behind something nearer, shows a sliver that
-// grows: its middle lies off the body's by half of what is still hidden, and moves slower than the
-// body while it grows. A width that grew grew at the cut edge: the prediction moves with half the
-// growth, as a vehicle's does (at the first update after birth that measures it, the whole width
-// counts as grown).
+// its outline has shown across the sight (Track::across_extent_m, under small_object_m). Its
+// edges leave out a few pixels beyond a gap (Small::silhouette_stray_gap_m): a neighbour's hand
+// chained into its cluster is not its silhouette. A walker coming into a head's view at its
+// edge, or out from behind something nearer, shows a sliver that grows: its middle lies off the
+// body's by half of what is still hidden, and moves slower than the body while it grows. A width
+// that grew grew at the cut edge: the prediction moves with half the growth, as a vehicle's does
+// (at the first update after birth that measures it, the whole width counts as grown).
 void centre_from_silhouette(Track& tr, const Outline& o, bool born, const Frame& frame,
                             const TrackerParams& p, Eigen::Vector2d& centre) {
   const Eigen::Vector2d d = (o.ref - frame.position).normalized();
   const Eigen::Vector2d t(-d.y(), d.x());  // across the line of sight
+  std::vector<double> across;
+  across.reserve(o.pts.size());
+  for (const Eigen::Vector2d& q : o.pts) across.push_back((q - o.ref).dot(t));
+  // The edges, a neighbour's stray pixels left out (Small::silhouette_stray_gap_m).
+  const auto [lo, hi] =
+      stray_bounds(across, p.small.silhouette_stray_gap_m, p.small.silhouette_stray_share);
   double t0 = kInf, t1 = -kInf;
-  for (const Eigen::Vector2d& q : o.pts) {
-    const double v = (q - o.ref).dot(t);
+  for (const double v : across) {
+    if (v < lo || v > hi) continue;
     t0 = std::min(t0, v);
     t1 = std::max(t1, v);
   }

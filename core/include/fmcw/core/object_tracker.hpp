@@ -108,6 +108,14 @@ struct TrackerParams {
     /// A walker coming into a head's view at its edge, or out from behind something nearer,
     /// shows a growing sliver, whose middle lies off its body and moves slower than it.
     bool centre_from_silhouette = true;
+    /// The silhouette's edges leave out a neighbour's stray pixels: of the
+    /// silhouette_stray_share of the outline's pixels nearest an edge across the line of sight,
+    /// those beyond the last gap wider than silhouette_stray_gap_m count neither for the edge
+    /// nor for the width. A walker beside another makes one cluster with the other's hand or
+    /// foot, and an edge on it put the centre half a metre off (docs/EVALUATION.md, "A
+    /// silhouette without a neighbour's hand"). 0: every pixel counts.
+    double silhouette_stray_gap_m = 0.3;  ///< [m]
+    double silhouette_stray_share = 0.05;
   } small;
 
   /// The constant-turn-rate filter.
