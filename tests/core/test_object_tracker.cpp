@@ -730,10 +730,10 @@ TEST(ObjectTracker, AWalkerComingOutFromBehindAPillarIsMeasuredFromTheEdgeItShow
 
 TEST(ObjectTracker, AWalkersSilhouetteLeavesOutANeighboursHandInItsCluster) {
   // The walker from behind the pillar, and from frame 6 (its track's second) a companion's hand
-  // (8-15 pixels, 3-5 % of the cluster) 0.5 m past its leading side, in its cluster: the
+  // (8-15 pixels, 2-5 % of the cluster) 0.5 m past its leading side, in its cluster: the
   // silhouette's edge is the walker's own, as without the hand (0.31 m/s at most across the
   // line of sight in its 3rd to 10th frame, 0.07 after). Control, every pixel counting: the
-  // edge is the hand's, the centre half a metre ahead, the velocity 1.2-1.7 m/s off in frames
+  // edge is the hand's, the centre moved towards it, the velocity 1.2-1.7 m/s off in frames
   // 6-8; the walker loses its track at frame 10 to a new one, up to 0.36 m/s off across the
   // line of sight after the walker's 10th tracked frame.
   const EmergingWalker with = walker_from_behind_a_pillar(TrackerParams{}, true);
