@@ -48,4 +48,17 @@ inline core::SyntheticSceneParams crowded_courtyard() {
   return p;
 }
 
+/// A car 4.4 m long on a circle of radius r about (cx, 0) at yaw rate w, at time t: it starts
+/// at (cx, -r) heading +x.
+inline core::SyntheticBox car_on_a_circle(double cx, double r, double w, double t) {
+  const double th = -M_PI / 2 + w * t;
+  core::SyntheticBox b;
+  b.center_m = Eigen::Vector3d(cx + r * std::cos(th), r * std::sin(th), 0.8);
+  b.half_extent_m = Eigen::Vector3d(2.2, 0.9, 0.8);
+  b.yaw_rad = th + M_PI / 2;
+  b.velocity_mps = Eigen::Vector3d(-r * w * std::sin(th), r * w * std::cos(th), 0.0);
+  b.yaw_rate_rps = w;
+  return b;
+}
+
 }  // namespace fmcw::test

@@ -16,6 +16,7 @@
 #include "fmcw/core/motion_pipeline.hpp"
 #include "fmcw/core/object_tracker.hpp"
 #include "fmcw/core/synthetic_scan.hpp"
+#include "scenes.hpp"
 
 namespace fmcw::core {
 namespace {
@@ -171,18 +172,8 @@ TEST(ObjectTracker, CarriesMovingThroughTheBlindBand) {
 // starts at (30, -15) heading +x.
 constexpr double kCircleRadius = 15.0;
 constexpr double kCircleOmega = 0.4;
-// A car 4.4 m long on a circle of radius r about (cx, 0) at yaw rate w, at time t: it starts
-// at (cx, -r) heading +x.
-SyntheticBox car_on_a_circle(double cx, double r, double w, double t) {
-  const double th = -M_PI / 2 + w * t;
-  SyntheticBox b;
-  b.center_m = Eigen::Vector3d(cx + r * std::cos(th), r * std::sin(th), 0.8);
-  b.half_extent_m = Eigen::Vector3d(2.2, 0.9, 0.8);
-  b.yaw_rad = th + M_PI / 2;
-  b.velocity_mps = Eigen::Vector3d(-r * w * std::sin(th), r * w * std::cos(th), 0.0);
-  b.yaw_rate_rps = w;
-  return b;
-}
+// A car 4.4 m long on a circle (scenes.hpp).
+using fmcw::test::car_on_a_circle;
 SyntheticBox circling_car(double t) {
   return car_on_a_circle(30.0, kCircleRadius, kCircleOmega, t);
 }

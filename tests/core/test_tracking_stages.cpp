@@ -7,7 +7,6 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -18,6 +17,7 @@
 
 #include "fmcw/core/motion_pipeline.hpp"
 #include "fmcw/core/synthetic_scan.hpp"
+#include "scenes.hpp"
 #include "tracking/association.hpp"
 #include "tracking/claims.hpp"
 #include "tracking/ctrv.hpp"
@@ -359,11 +359,10 @@ TEST(TrackingCtrv, ALostTracksMotionIsFusedAsAPriorByItsCovariance) {
 
 // ---- The Doppler rows -----------------------------------------------------------------------
 
-// The rows of a car turning at 0.4 rad/s on a circle about (30, 0), rendered without noise at
-// angle th of its circle (test_object_tracker's circling car), and the least-squares fit of its
-// velocity and yaw rate about its true centre on them: the normal matrix of the rows' velocity
-// and yaw columns (row_jacobian at the true state), its solution, and the heads its rows come
-// from.
+// The rows of test_object_tracker's circling car (0.4 rad/s on a 15 m circle about (30, 0)) at
+// time t, rendered without noise, and the least-squares fit of its velocity and yaw rate about
+// its true centre on them: the normal matrix of the rows' velocity and yaw columns (row_jacobian
+// at the true state), its solution, and the heads its rows come from.
 struct RowsFit {
   Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
   Eigen::Vector3d solution = Eigen::Vector3d::Zero();
@@ -373,14 +372,8 @@ struct RowsFit {
   std::size_t rows = 0;
 };
 
-RowsFit fit_circling_rows(double th) {
-  constexpr double kOmega = 0.4, kRadius = 15.0;
-  SyntheticBox b;
-  b.center_m = Eigen::Vector3d(30.0 + kRadius * std::cos(th), kRadius * std::sin(th), 0.8);
-  b.half_extent_m = Eigen::Vector3d(2.2, 0.9, 0.8);
-  b.yaw_rad = th + M_PI / 2;
-  b.velocity_mps = kRadius * kOmega * Eigen::Vector3d(-std::sin(th), std::cos(th), 0.0);
-  b.yaw_rate_rps = kOmega;
+RowsFit fit_circling_rows(double t) {
+  const SyntheticBox b = fmcw::test::car_on_a_circle(30.0, 15.0, 0.4, t);
   SyntheticSceneParams sp;
   sp.actors.push_back(b);
   sp.range_noise_m = 0.0;
@@ -389,7 +382,7 @@ RowsFit fit_circling_rows(double th) {
   const ScanBeams beams(rendered.scan);
   const Frame frame = standing_frame(rendered.scan, beams);
   RowsFit f;
-  f.truth << b.center_m.x(), b.center_m.y(), b.velocity_mps.x(), b.velocity_mps.y(), kOmega;
+  f.truth << b.center_m.x(), b.center_m.y(), b.velocity_mps.x(), b.velocity_mps.y(), b.yaw_rate_rps;
   Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
   for (std::size_t i = 0; i < rendered.scan.size(); ++i) {
     if (!rendered.scan.valid[i] || rendered.truth->instance[i] != 1) continue;
@@ -413,7 +406,7 @@ TEST(TrackingRows, OneHeadsRowsReadOneVelocityTwoHeadsReadTheYawRate) {
   // Across the seam of the right and the front head (0.49 m apart) the rows fix velocity and
   // yaw rate; in the front head alone their normal matrix is singular: any yaw rate, with the
   // velocity that keeps the field at the origin, fits them.
-  const RowsFit seam = fit_circling_rows(-M_PI / 2 + 0.48);
+  const RowsFit seam = fit_circling_rows(1.2);  // frame 12
   ASSERT_GT(seam.rows, 100u);
   EXPECT_EQ(seam.origins.size(), 2u);
   EXPECT_LT(seam.worst_prediction, 1e-4);  // the scan stores its Doppler as float
@@ -421,7 +414,7 @@ TEST(TrackingRows, OneHeadsRowsReadOneVelocityTwoHeadsReadTheYawRate) {
   EXPECT_NEAR(seam.solution(0), seam.truth(2), 1e-3);
   EXPECT_NEAR(seam.solution(1), seam.truth(3), 1e-3);
 
-  const RowsFit front = fit_circling_rows(-M_PI / 2 + 1.2);
+  const RowsFit front = fit_circling_rows(3.0);  // frame 30
   ASSERT_GT(front.rows, 100u);
   EXPECT_EQ(front.origins.size(), 1u);
   EXPECT_LT(front.worst_prediction, 1e-4);
