@@ -159,6 +159,7 @@ void TrackerParams::validate() const {
                  "tracking.heading.face_max_angle_rad must be in [0, pi/2], got ", heading.face_max_angle_rad);
   h.positive("face_sigma_rad", heading.face_sigma_rad);
   h.non_negative("face_oblique_sigma_rad", heading.face_oblique_sigma_rad);
+  h.non_negative("max_edge_distance_m", heading.max_edge_distance_m);
   const FieldCheck a{"association"};
   a.non_negative("gate_m", association.gate_m);
   a.at_least("min_cluster_pixels", association.min_cluster_pixels, 3);

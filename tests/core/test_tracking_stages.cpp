@@ -1145,6 +1145,73 @@ TEST(TrackingOutlineAxis, ACarSeenEndOnShowsItsRoofBehindItsRearAndTheRearIsTheF
   EXPECT_GT((without.velocity() - v).norm(), 2.0);
 }
 
+// A van coming head-on, its axis along x, its front `front` m ahead and its right side `side` m
+// to the left: its bonnet (its top 1.05 m up) `step` m ahead of its cab (2.25 m), both 2 m wide,
+// 5 m long in all; a car standing 6 m ahead of it (static, 4.2 x 1.8 m, 1.25 m up), its centre
+// `hide` m left of the van's right side: at 1.2 m it hides the bonnet's left part from the heads,
+// at 3 m it stands beside it. The van's pixels (bonnet and cab) and the frame.
+AxisCase van_head_on(double front, double side, double step, double hide = 2.0) {
+  SyntheticSceneParams p;
+  SyntheticBox bonnet, cab, car;
+  bonnet.center_m = Eigen::Vector3d(front + 2.5, side + 1.0, 0.05 + 0.5);
+  bonnet.half_extent_m = Eigen::Vector3d(2.5, 1.0, 0.5);
+  cab.center_m = Eigen::Vector3d(front + step + 0.5 * (5.0 - step), side + 1.0, 0.05 + 1.1);
+  cab.half_extent_m = Eigen::Vector3d(0.5 * (5.0 - step), 1.0, 1.1);
+  bonnet.velocity_mps = cab.velocity_mps = Eigen::Vector3d(-10.0, 0.0, 0.0);
+  car.center_m = Eigen::Vector3d(front - 6.0, side + hide, 0.05 + 0.6);
+  car.half_extent_m = Eigen::Vector3d(2.1, 0.9, 0.6);
+  p.static_boxes.push_back(car);
+  p.actors = {bonnet, cab};
+  p.range_noise_m = 0.025;
+  p.velocity_noise_mps = 0.031;
+  p.seed = 7;
+  AxisCase c{render_synthetic_scan(p), {}};
+  for (std::size_t i = 0; i < c.rendered.scan.size(); ++i) {
+    if (c.rendered.scan.valid[i] && c.rendered.truth->instance[i] >= 1)
+      c.pixels.push_back(static_cast<std::uint32_t>(i));
+  }
+  return c;
+}
+
+TEST(TrackingOutlineAxis, AnOutlineWhoseNearSideLiesOffItsRectangleIsNotRead) {
+  // The van 50 m ahead, its right side 2.5 m to the left, the car hiding the bonnet's left part:
+  // the near side is the cab's front on the left, the bonnet's 1.1 m nearer on the right, and a
+  // column of its side behind. The rectangle whose edges those pixels lie closest to is a
+  // diagonal over them, more than 30 degrees off the van's axis: with the rule off
+  // (max_edge_distance_m 0) that is the axis read, and the track of the van driving straight at
+  // 10 m/s, its velocity across the line of sight open, takes it, metres per second off. With the
+  // rule its pixels lie farther than 0.15 m from the rectangle's edges on average: neither an
+  // axis, a face nor a line is read, and the track is left as it was.
+  const AxisCase c = van_head_on(50.0, 2.5, 1.1, 1.2);
+  TrackerParams off;
+  off.heading.max_edge_distance_m = 0.0;
+  const OutlineAxis misread = axis_of(c, off.heading);
+  ASSERT_TRUE(misread.informative);
+  EXPECT_GT(axis_angle(misread.axis, 0.0), 30.0 * M_PI / 180.0);
+  const TrackerParams p;
+  const OutlineAxis a = axis_of(c, p.heading);
+  EXPECT_FALSE(a.rectangle);
+  EXPECT_FALSE(a.informative);
+  EXPECT_FALSE(is_face(a, Eigen::Vector2d::Zero(), Eigen::Vector2d(-1.0, 0.0), p.heading));
+  const ScanBeams beams(c.rendered.scan);
+  const Frame frame = standing_frame(c.rendered.scan, beams);
+  const Eigen::Vector2d centre(52.5, 3.5), v(-10.0, 0.0);
+  const Track tr = track_on_the_doppler_line(centre, v, 0.0, 0.4, 5.0, 2.0);
+  const auto [used_off, taken] = axis_updated(tr, c, frame, off);
+  EXPECT_TRUE(used_off);
+  EXPECT_GT((taken.velocity() - v).norm(), 3.0);
+  const auto [used, kept] = axis_updated(tr, c, frame, p);
+  EXPECT_FALSE(used);
+  EXPECT_FALSE(kept.line_seen);
+  EXPECT_EQ(kept.x, tr.x);
+  // The same van with the bonnet's front whole (the car beside it, hiding none of it): a near
+  // side on the rectangle's edges, its axis read along the van.
+  const OutlineAxis whole = axis_of(van_head_on(50.0, 2.5, 1.1, 3.0), p.heading);
+  EXPECT_TRUE(whole.rectangle);
+  EXPECT_TRUE(whole.informative);
+  EXPECT_LT(axis_angle(whole.axis, 0.0), 2.0 * M_PI / 180.0);
+}
+
 // ---- A turn released while its rate holds up -----------------------------------------------
 
 // The one cluster of the case's pixels as the track's group reports it (relabel_estimate).

@@ -222,7 +222,8 @@ bool axis_information(Track& tr, const std::vector<std::uint32_t>& pixels, const
   if (!a.informative && !face) {
     // Too short for an axis, no face: a line or an L the report may test its yaw rate by.
     const TrackerParams::Turning& pt = p.turning;
-    tr.line_seen = a.side_length_m >= pt.line_min_length_m && a.columns >= pt.line_min_columns;
+    tr.line_seen =
+        a.rectangle && a.side_length_m >= pt.line_min_length_m && a.columns >= pt.line_min_columns;
     tr.line_axis = a.axis;
     return false;
   }

@@ -121,7 +121,15 @@ OutlineAxis outline_axis(const std::vector<std::uint32_t>& pixels, const Frame& 
   out.width_m = std::min(along, across);
   out.at = pts.ref;
   out.columns = static_cast<int>(pts.near.size());
-  out.informative = p.use_outline && out.length_m >= p.min_length_m && out.length_m >= p.min_aspect * out.width_m;
+  const bool long_side =
+      p.use_outline && out.length_m >= p.min_length_m && out.length_m >= p.min_aspect * out.width_m;
+  // A long side the near pixels do not lie along is a rectangle drawn over several surfaces: a
+  // van seen head-on, the front of its upper part a metre behind its lower front and one column
+  // of its side behind them, fits a diagonal 34 degrees off its axis.
+  out.rectangle = !long_side || !(p.max_edge_distance_m > 0.0) ||
+                  edge_distance(pts.near, angle) <=
+                      p.max_edge_distance_m * static_cast<double>(pts.near.size());
+  out.informative = long_side && out.rectangle;
   // The side the sensor sees alone, on the same rectangle.
   const Bounds side(pts.near, angle);
   const double side_along = side.a1 - side.a0, side_across = side.b1 - side.b0;
@@ -151,7 +159,7 @@ double side_sight_cosine(const OutlineAxis& a, const Eigen::Vector2d& sensor) {
 
 bool is_face(const OutlineAxis& a, const Eigen::Vector2d& sensor, const Eigen::Vector2d& heading,
              const TrackerParams::Heading& p) {
-  if (!p.use_outline || p.face_min_length_m <= 0.0 || a.informative) return false;
+  if (!p.use_outline || p.face_min_length_m <= 0.0 || a.informative || !a.rectangle) return false;
   // The side the sensor sees: not long enough for a body's length, long enough for its width, a
   // line (a car's roof behind its rear, seen from above it, is no part of the face).
   const bool line = a.side_length_m >= p.face_min_length_m && a.side_length_m < p.min_length_m &&

@@ -20,7 +20,13 @@ struct OutlineAxis {
   /// The long side is at least TrackerParams::Heading::min_length_m (longer than a vehicle is
   /// wide, so it is the body's length) and min_aspect times the short one (a square-ish outline
   /// has no axis to tell).
+  /// And its near side lies along the rectangle's edges
+  /// (TrackerParams::Heading::max_edge_distance_m).
   bool informative = false;
+  /// False where the long side is no side the near pixels show: they lie, on average, farther
+  /// than Heading::max_edge_distance_m from the rectangle's edges. Nothing of such an outline is
+  /// read (no axis, no face, no line).
+  bool rectangle = true;
   int columns = 0;  ///< columns the outline spans (those with a pixel)
   /// The side the sensor sees (the nearest pixel of each column) alone, on the same rectangle:
   /// its long direction and extents. A car seen end-on from above its roof shows the roof
