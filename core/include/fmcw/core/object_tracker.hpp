@@ -249,8 +249,9 @@ struct TrackerParams {
     double face_max_angle_rad = 0.35;   ///< [rad]
     double face_sigma_rad = 0.052;      ///< [rad], over the root of the face's columns
     double face_oblique_sigma_rad = 0.2;  ///< [rad] per unit of |cos| (0: none)
-    /// An outline whose near side lies farther than this from its rectangle's edges, on
-    /// average over its columns, shows no side of a box: nothing of it is read (0: always read).
+    /// An outline with a long side (min_length_m, min_aspect) whose near side lies farther than
+    /// this from its rectangle's edges, on average over its columns, shows no side of a box:
+    /// nothing of it is read, no axis, face or line (0: always read).
     /// Reads lie 0.02 m from their edges at the median, 0.14 m at the 99th percentile (841 reads
     /// on eight runs: docs/EVALUATION.md, "A rectangle the near side does not lie on") [m].
     double max_edge_distance_m = 0.15;
