@@ -7,6 +7,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -658,11 +659,24 @@ TEST(TrackingBox, AFewPixelsFarBesideAVehicleAreNoPartOfItsBox) {
 
 // ---- The outline's axis ------------------------------------------------------------------
 
-// The pixels of one box (instance 1) on the paper rig, noise as in Table I, and its outline's axis.
+// A scene on the paper rig, noise as in Table I, and the pixels of its actors (one box: instance 1).
 struct AxisCase {
   fmcw::core::Frame rendered;
   std::vector<std::uint32_t> pixels;
 };
+
+// The scene rendered with Table I's noise (seed 7), and the pixels of all its actors.
+AxisCase render_actors(SyntheticSceneParams p) {
+  p.range_noise_m = 0.025;
+  p.velocity_noise_mps = 0.031;
+  p.seed = 7;
+  AxisCase c{render_synthetic_scan(p), {}};
+  for (std::size_t i = 0; i < c.rendered.scan.size(); ++i) {
+    if (c.rendered.scan.valid[i] && c.rendered.truth->instance[i] >= 1)
+      c.pixels.push_back(static_cast<std::uint32_t>(i));
+  }
+  return c;
+}
 
 AxisCase render_box(const Eigen::Vector2d& centre, double length, double width, double yaw,
                     double height = 1.5) {
@@ -672,14 +686,7 @@ AxisCase render_box(const Eigen::Vector2d& centre, double length, double width, 
   b.half_extent_m = Eigen::Vector3d(0.5 * length, 0.5 * width, 0.5 * height);
   b.yaw_rad = yaw;
   p.actors.push_back(b);
-  p.range_noise_m = 0.025;
-  p.velocity_noise_mps = 0.031;
-  p.seed = 7;
-  AxisCase c{render_synthetic_scan(p), {}};
-  for (std::size_t i = 0; i < c.rendered.scan.size(); ++i) {
-    if (c.rendered.scan.valid[i] && c.rendered.truth->instance[i] == 1) c.pixels.push_back(static_cast<std::uint32_t>(i));
-  }
-  return c;
+  return render_actors(p);
 }
 
 OutlineAxis axis_of(const AxisCase& c, const TrackerParams::Heading& p = {}) {
@@ -1162,15 +1169,7 @@ AxisCase van_head_on(double front, double side, double step, double hide = 2.0) 
   car.half_extent_m = Eigen::Vector3d(2.1, 0.9, 0.6);
   p.static_boxes.push_back(car);
   p.actors = {bonnet, cab};
-  p.range_noise_m = 0.025;
-  p.velocity_noise_mps = 0.031;
-  p.seed = 7;
-  AxisCase c{render_synthetic_scan(p), {}};
-  for (std::size_t i = 0; i < c.rendered.scan.size(); ++i) {
-    if (c.rendered.scan.valid[i] && c.rendered.truth->instance[i] >= 1)
-      c.pixels.push_back(static_cast<std::uint32_t>(i));
-  }
-  return c;
+  return render_actors(p);
 }
 
 TEST(TrackingOutlineAxis, AnOutlineWhoseNearSideLiesOffItsRectangleIsNotRead) {

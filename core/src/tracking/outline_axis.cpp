@@ -42,17 +42,19 @@ double edge_distance(const std::vector<Eigen::Vector2d>& near, double angle) {
 }
 
 // The angle in [from, from + steps * step) whose edges the near points lie closest to (the first
-// of equal ones).
-double closest_edges(const std::vector<Eigen::Vector2d>& near, double from, double step, int steps) {
-  double best = from;
-  double best_sum = std::numeric_limits<double>::infinity();
+// of equal ones), and their summed distance there (edge_distance).
+struct ClosestEdges {
+  double angle;
+  double sum;
+};
+
+ClosestEdges closest_edges(const std::vector<Eigen::Vector2d>& near, double from, double step,
+                           int steps) {
+  ClosestEdges best{from, std::numeric_limits<double>::infinity()};
   for (int k = 0; k < steps; ++k) {
     const double angle = from + k * step;
     const double sum = edge_distance(near, angle);
-    if (sum < best_sum) {
-      best_sum = sum;
-      best = angle;
-    }
+    if (sum < best.sum) best = {angle, sum};
   }
   return best;
 }
@@ -110,8 +112,9 @@ OutlineAxis outline_axis(const std::vector<std::uint32_t>& pixels, const Frame& 
   if (pixels.size() < 3) return out;
   const Candidates pts = hull_candidates(pixels, frame);
   constexpr double kDeg = M_PI / 180.0;
-  const double coarse = closest_edges(pts.near, 0.0, 3.0 * kDeg, 30);
-  const double angle = closest_edges(pts.near, coarse - 3.0 * kDeg, 0.25 * kDeg, 25);
+  const double coarse = closest_edges(pts.near, 0.0, 3.0 * kDeg, 30).angle;
+  const ClosestEdges fine = closest_edges(pts.near, coarse - 3.0 * kDeg, 0.25 * kDeg, 25);
+  const double angle = fine.angle;
   const Bounds bounds(pts.all, angle);
   const double along = bounds.a1 - bounds.a0, across = bounds.b1 - bounds.b0;
   const bool along_is_long = along >= across;
@@ -127,8 +130,7 @@ OutlineAxis outline_axis(const std::vector<std::uint32_t>& pixels, const Frame& 
   // van seen head-on, the front of its upper part a metre behind its lower front and one column
   // of its side behind them, fits a diagonal 34 degrees off its axis.
   out.rectangle = !long_side || !(p.max_edge_distance_m > 0.0) ||
-                  edge_distance(pts.near, angle) <=
-                      p.max_edge_distance_m * static_cast<double>(pts.near.size());
+                  fine.sum <= p.max_edge_distance_m * static_cast<double>(pts.near.size());
   out.informative = long_side && out.rectangle;
   // The side the sensor sees alone, on the same rectangle.
   const Bounds side(pts.near, angle);
