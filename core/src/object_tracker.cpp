@@ -213,6 +213,10 @@ void TrackerParams::validate() const {
   x.non_negative("stray_gap_m (0: every pixel counts)", box.stray_gap_m);
   FMCW_CHECK_ARG(box.stray_share >= 0.0 && box.stray_share < 0.5, "tracking.box.stray_share must be in [0, 0.5), got ",
                  box.stray_share);
+  FMCW_CHECK_ARG(box.own_stray_share >= 0.0 && box.own_stray_share < 0.5,
+                 "tracking.box.own_stray_share must be in [0, 0.5), got ", box.own_stray_share);
+  x.positive("own_stray_min_length_m", box.own_stray_min_length_m);
+  x.non_negative("own_stray_settled_updates", box.own_stray_settled_updates);
   FMCW_CHECK_ARG(box.view_cut_cosine >= 0.0 && box.view_cut_cosine < 1.0, "tracking.box.view_cut_cosine must be in [0, 1), got ",
                  box.view_cut_cosine);
 }

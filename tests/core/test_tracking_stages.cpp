@@ -657,6 +657,59 @@ TEST(TrackingBox, AFewPixelsFarBesideAVehicleAreNoPartOfItsBox) {
   EXPECT_NEAR(width_with(25.0, p, 1.0), p.box.max_width_m, 1e-9);
 }
 
+// A bus's side, 75 pixels from x = 10 to 22 at y = 15 (the sensor at the origin sees it and its
+// rear), its track heading along +x at 5 m/s with a box 12 x 2.5 m, settled for `settled`
+// updates; and 6 pixels of a car following it, from x = follower_x to follower_x + 0.8
+// at y = 15.3, in its cluster. Returns the track after its box is measured, and the centre.
+std::pair<Track, Eigen::Vector2d> bus_followed(double follower_x, int settled,
+                                               const TrackerParams& p) {
+  HandScan h;
+  for (int r = 0; r < 5; ++r) {
+    for (int c = 1; c <= 15; ++c) {
+      h.set(r, c, Eigen::Vector3d(10.0 + 12.0 * (c - 1) / 14.0, 15.0, 0.6 * r), 0.0);
+    }
+  }
+  for (int r = 1; r <= 3; ++r) {
+    for (int c = 17; c <= 18; ++c) {
+      h.set(r, c, Eigen::Vector3d(follower_x + 0.8 * (c - 17), 15.3, 0.6 * r), 0.0);
+    }
+  }
+  const ScanBeams beams(h.scan);
+  const Frame frame = standing_frame(h.scan, beams);
+  Track tr = track_along_x(16.0, 12.0);
+  tr.x(1) = 16.25;
+  tr.width_m = 2.5;
+  tr.updates_settled = settled;
+  const BoxMeasurement m =
+      measure_box(tr, every_valid_pixel(h.scan), false, frame, ViewEdges(h.scan, 0.0), p);
+  EXPECT_TRUE(m.seen);
+  return {tr, m.centre};
+}
+
+TEST(TrackingBox, ACarFollowingASettledBoxIsNoPartOfIt) {
+  // The car 3.2 m behind the bus's rear: the outline, 16 m long, is under any body's size but
+  // longer than the bus's box by more than stray_gap_m, and the car's pixels (7 % of them) lie
+  // beyond a gap of more than stray_gap_m: strays. The box keeps its length and its centre,
+  // anchored at the rear the sensor sees, stays the bus's.
+  const TrackerParams p;
+  const auto [bus, centre] = bus_followed(6.0, 5, p);
+  EXPECT_NEAR(bus.length_m, 12.0, 1e-9);
+  EXPECT_NEAR(centre.x(), 16.0, 1e-5);
+  EXPECT_NEAR(centre.y(), 16.25, 1e-5);
+  // Searched against any body's size only, the car stretches the box to 16 m, and the centre
+  // moves 2 m back.
+  TrackerParams any_body = p;
+  any_body.box.own_stray_share = 0.0;
+  const auto [stretched, moved] = bus_followed(6.0, 5, any_body);
+  EXPECT_NEAR(stretched.length_m, 16.0, 1e-5);
+  EXPECT_NEAR(moved.x(), 14.0, 1e-5);
+  // A box that grew within its last own_stray_settled_updates may still be showing more of its
+  // body: its pixels beyond a gap count.
+  EXPECT_NEAR(bus_followed(6.0, p.box.own_stray_settled_updates - 1, p).first.length_m, 16.0, 1e-5);
+  // Within the box's length plus stray_gap_m, pixels behind a gap count: the bus's own far end.
+  EXPECT_NEAR(bus_followed(8.5, 5, p).first.length_m, 13.5, 1e-5);
+}
+
 // ---- The outline's axis ------------------------------------------------------------------
 
 // A scene on the paper rig, noise as in Table I, and the pixels of its actors (one box: instance 1).

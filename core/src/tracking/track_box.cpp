@@ -121,10 +121,33 @@ std::pair<double, double> stray_bounds(std::vector<double> v, double gap_m, doub
   return {lo, -lowest_kept(v, m, gap_m)};
 }
 
-// The outline of the pixels; strays: leave out a vehicle's stray pixels (TrackerParams::Box).
-Outline outline_of(const std::vector<std::uint32_t>& pixels, const Frame& frame, const ViewEdges& edges,
-                   const Eigen::Vector2d& u, const Eigen::Vector2d& wv, const TrackerParams::Box& p,
-                   bool strays) {
+// Where an outline is searched for a vehicle's stray pixels (TrackerParams::Box): along an axis
+// where it is longer than these, among the share of its pixels nearest each end.
+struct StraySearch {
+  double length_m = kInf;
+  double width_m = kInf;
+  double share = 0.0;
+};
+
+// Any vehicle's outline is searched where it is longer than any body; a settled box's also where
+// it is longer than the box itself (Box::own_stray_share).
+StraySearch stray_search(const Track& tr, bool born, bool resize, const TrackerParams::Box& p) {
+  StraySearch s{p.max_length_m, p.max_width_m, p.stray_share};
+  if (p.own_stray_share > 0.0 && !born && !resize && !tr.walker &&
+      tr.updates_settled >= p.own_stray_settled_updates) {
+    s.length_m =
+        std::min(s.length_m, std::max(tr.length_m + p.stray_gap_m, p.own_stray_min_length_m));
+    s.width_m = std::min(s.width_m, tr.width_m + p.stray_gap_m);
+    s.share = std::max(s.share, p.own_stray_share);
+  }
+  return s;
+}
+
+// The outline of the pixels; strays: leave out a vehicle's stray pixels (TrackerParams::Box)
+// where search finds them.
+Outline outline_of(const std::vector<std::uint32_t>& pixels, const Frame& frame,
+                   const ViewEdges& edges, const Eigen::Vector2d& u, const Eigen::Vector2d& wv,
+                   const TrackerParams::Box& p, bool strays, const StraySearch& search) {
   Outline o;
   o.pts.reserve(pixels.size());
   for (const std::uint32_t i : pixels) {
@@ -150,8 +173,8 @@ Outline outline_of(const std::vector<std::uint32_t>& pixels, const Frame& frame,
   };
   extents(-kInf, kInf, -kInf, kInf);
   // Stray pixels: beyond a gap at an end of an axis, stretching the extent along it past what
-  // any body measures (Box: max_length_m, max_width_m).
-  const bool long_a = o.a1 - o.a0 > p.max_length_m, long_b = o.b1 - o.b0 > p.max_width_m;
+  // any body measures (Box: max_length_m, max_width_m), or past a settled box's own size.
+  const bool long_a = o.a1 - o.a0 > search.length_m, long_b = o.b1 - o.b0 > search.width_m;
   if (!strays || !(long_a || long_b)) return o;
   std::vector<double> along(o.pts.size()), across(o.pts.size());
   for (std::size_t k = 0; k < o.pts.size(); ++k) {
@@ -159,8 +182,8 @@ Outline outline_of(const std::vector<std::uint32_t>& pixels, const Frame& frame,
     across[k] = (o.pts[k] - o.ref).dot(wv);
   }
   const std::pair<double, double> none{-kInf, kInf};
-  const auto [a_lo, a_hi] = long_a ? stray_bounds(along, p.stray_gap_m, p.stray_share) : none;
-  const auto [b_lo, b_hi] = long_b ? stray_bounds(across, p.stray_gap_m, p.stray_share) : none;
+  const auto [a_lo, a_hi] = long_a ? stray_bounds(along, p.stray_gap_m, search.share) : none;
+  const auto [b_lo, b_hi] = long_b ? stray_bounds(across, p.stray_gap_m, search.share) : none;
   extents(a_lo, a_hi, b_lo, b_hi);
   return o;
 }
@@ -287,7 +310,8 @@ BoxMeasurement measure_box(Track& tr, const Group& g, bool born, const Frame& fr
   // Strays are left out of a vehicle's box, not out of a walker's or a group of walkers' (a
   // walker at the end of a row is no stray).
   const bool strays = tr.velocity().norm() > p.small.walker_max_speed_mps;
-  const Outline o = outline_of(pixels, frame, edges, u, wv, p.box, strays);
+  const Outline o =
+      outline_of(pixels, frame, edges, u, wv, p.box, strays, stray_search(tr, born, resize, p.box));
   const double length_before = tr.length_m;
   const double width_before = tr.width_m;
   if (!m.centre_from_claims) {

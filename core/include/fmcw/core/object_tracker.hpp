@@ -515,6 +515,20 @@ struct TrackerParams {
     /// (a walker at the end of a row is no stray) [m]. 0: every pixel counts.
     double stray_gap_m = 2.0;
     double stray_share = 0.02;
+    /// A settled vehicle's box (its length plus width grown by no more than
+    /// Turning::settle_growth_m over its last own_stray_settled_updates updates, at least that
+    /// many since its birth, and not re-measured by a heading swing) is searched the same way where
+    /// the outline is longer than the box itself by stray_gap_m (along the axis, and longer than
+    /// own_stray_min_length_m), among the own_stray_share of the pixels nearest each end. A car
+    /// following a bus, a pole behind a truck, their Doppler within the threshold of the body's
+    /// edge, join its cluster under any body's size but beyond its own: they stretched a box by
+    /// metres, which the centre, anchored at the end the sensor sees, followed by half, and the
+    /// track absorbed the follower. A box still growing as more of the body comes into view (a
+    /// bus's side seen at a grazing angle, its pixels metres apart at range; a truck's trailer
+    /// behind its cab) is not searched. own_stray_share 0: only any body's size counts.
+    double own_stray_share = 0.1;
+    double own_stray_min_length_m = 8.0;  ///< [m]
+    int own_stray_settled_updates = 3;
   } box;
 
   /// Throws std::invalid_argument naming the field that failed (tracking.<stage>.<field>).
