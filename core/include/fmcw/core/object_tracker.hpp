@@ -524,11 +524,12 @@ struct TrackerParams {
     /// edge, join its cluster under any body's size but beyond its own: they stretched a box by
     /// metres, which the centre, anchored at the end the sensor sees, followed by half, and the
     /// track absorbed the follower. A box still growing as more of the body comes into view (a
-    /// bus's side seen at a grazing angle, its pixels metres apart at range; a truck's trailer
-    /// behind its cab) is not searched. own_stray_share 0: only any body's size counts.
+    /// bus's side seen at a grazing angle, its pixels metres apart at range) is not searched,
+    /// nor along an outline under own_stray_min_length_m (a truck's cab, its trailer seen behind
+    /// a gap). own_stray_share 0: only any body's size counts.
     double own_stray_share = 0.1;
     double own_stray_min_length_m = 8.0;  ///< [m]
-    int own_stray_settled_updates = 3;
+    int own_stray_settled_updates = 1;
   } box;
 
   /// Throws std::invalid_argument naming the field that failed (tracking.<stage>.<field>).
